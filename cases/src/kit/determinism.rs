@@ -1,0 +1,260 @@
+//! `kit.determinism`: the same seeded scene rendered twice, each time with fresh resources,
+//! reads back bit-identical; and the render is checked against the CPU's coverage of the scene
+//! so that two identical blank images cannot pass.
+
+use anyhow::Result;
+use fragkit::attachments;
+use fragkit::gpu::Gpu;
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::image_compare::{compare, side_by_side};
+use fragkit::query::GpuTimer;
+use fragkit::readback::read_rgba8;
+use fragkit::scene::hash::SeededRng;
+use fragkit::shaders;
+use wgpu::util::DeviceExt;
+
+pub const CASE: Case = Case {
+    name: "kit.determinism",
+    summary: "a seeded scene rendered twice from scratch reads back bit-identical",
+    requires: wgpu::Features::empty(),
+    params: &[
+        ParamSpec {
+            name: "size",
+            kind: ParamKind::Sizes,
+            default: "96x64",
+            help: "target size",
+        },
+        ParamSpec {
+            name: "triangles",
+            kind: ParamKind::Count,
+            default: "48",
+            help: "triangles in the scene",
+        },
+        ParamSpec {
+            name: "seed",
+            kind: ParamKind::Count,
+            default: "7",
+            help: "scene and noise seed",
+        },
+    ],
+    run,
+};
+
+/// Background colour; no triangle shade reaches it (shades are at least 0.25 in green).
+const BACKGROUND: [u8; 4] = [0, 0, 0, 255];
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Vertex {
+    position: [f32; 3],
+    shade: [f32; 3],
+}
+
+/// Seeded triangles in clip space, some reaching past the edges, at random depths.
+fn scene(triangles: u64, seed: u32) -> Vec<Vertex> {
+    let mut rng = SeededRng::new(seed);
+    (0..triangles)
+        .flat_map(|_| {
+            let depth = rng.unit();
+            let shade = [rng.unit(), 0.25 + 0.75 * rng.unit(), rng.unit()];
+            let centre = [rng.unit() * 2.4 - 1.2, rng.unit() * 2.4 - 1.2];
+            let corner = move |rng: &mut SeededRng| Vertex {
+                position: [
+                    centre[0] + rng.unit() * 0.8 - 0.4,
+                    centre[1] + rng.unit() * 0.8 - 0.4,
+                    depth,
+                ],
+                shade,
+            };
+            [corner(&mut rng), corner(&mut rng), corner(&mut rng)]
+        })
+        .collect()
+}
+
+/// Renders the scene with resources created from nothing.
+fn render(
+    ctx: &mut Ctx,
+    size: (u32, u32),
+    vertices: &[Vertex],
+    seed: u32,
+) -> Result<image::RgbaImage> {
+    let gpu: &Gpu = ctx.gpu;
+    let format = wgpu::TextureFormat::Rgba8Unorm;
+    let colour = gpu.texture(
+        "determinism colour",
+        size,
+        format,
+        1,
+        wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+    );
+    let depth = gpu.texture(
+        "determinism depth",
+        size,
+        wgpu::TextureFormat::Depth24PlusStencil8,
+        1,
+        wgpu::TextureUsages::RENDER_ATTACHMENT,
+    );
+    let (colour_view, depth_view) = (
+        colour.create_view(&Default::default()),
+        depth.create_view(&Default::default()),
+    );
+    let module = shaders::NOISE_TRIANGLES.module(gpu);
+    let pipeline = gpu
+        .device
+        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("noise triangles"),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_triangle"),
+                compilation_options: Default::default(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<Vertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
+                })],
+            },
+            primitive: Default::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: wgpu::TextureFormat::Depth24PlusStencil8,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_noise"),
+                compilation_options: Default::default(),
+                targets: &[Some(format.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+    let vertex_buffer = gpu
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene vertices"),
+            contents: bytemuck::cast_slice(vertices),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+    let seed_buffer = gpu
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("noise seed"),
+            contents: bytemuck::cast_slice(&[seed, 0, 0, 0]),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+    let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("noise seed"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: seed_buffer.as_entire_binding(),
+        }],
+    });
+    let mut timer = GpuTimer::new(gpu, 1);
+    let mut encoder = gpu.encoder("determinism");
+    {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("noise triangles"),
+            color_attachments: &[attachments::colour(&colour_view, None, wgpu::Color::BLACK)],
+            depth_stencil_attachment: attachments::stencil(&depth_view, Some(0)),
+            timestamp_writes: timer.pass("noise triangles"),
+            ..Default::default()
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.set_vertex_buffer(0, vertex_buffer.slice(..));
+        pass.draw(0..vertices.len() as u32, 0..1);
+    }
+    timer.resolve(&mut encoder);
+    gpu.queue.submit([encoder.finish()]);
+    ctx.gpu_time(&timer.read(gpu)?);
+    read_rgba8(gpu, &colour)
+}
+
+/// Distance (px) from an edge within which fixed-point snapping may decide coverage either way.
+const SNAP_MARGIN: f32 = 1.0 / 64.0;
+
+/// CPU coverage of pixel centres: Some(covered) or None within 1/64 px of an edge, where the
+/// rasteriser's fixed-point snapping may decide either way.
+fn cpu_coverage(size: (u32, u32), vertices: &[Vertex], x: u32, y: u32) -> Option<bool> {
+    let p = [x as f32 + 0.5, y as f32 + 0.5];
+    let to_pixels = |v: &Vertex| {
+        [
+            (v.position[0] + 1.0) * 0.5 * size.0 as f32,
+            (1.0 - v.position[1]) * 0.5 * size.1 as f32,
+        ]
+    };
+    let mut covered = false;
+    for triangle in vertices.chunks_exact(3) {
+        let [a, b, c] = [
+            to_pixels(&triangle[0]),
+            to_pixels(&triangle[1]),
+            to_pixels(&triangle[2]),
+        ];
+        let edge = |u: [f32; 2], v: [f32; 2]| {
+            let length = ((v[0] - u[0]).powi(2) + (v[1] - u[1]).powi(2))
+                .sqrt()
+                .max(1e-12);
+            ((v[0] - u[0]) * (p[1] - u[1]) - (v[1] - u[1]) * (p[0] - u[0])) / length
+        };
+        let distances = [edge(a, b), edge(b, c), edge(c, a)];
+        let inside = distances.iter().all(|&d| d > 0.0) || distances.iter().all(|&d| d < 0.0);
+        // Either winding: within the margin of this triangle's boundary counts as undecidable.
+        let inside_with_margin = |sign: f32| distances.iter().all(|&d| d * sign > -SNAP_MARGIN);
+        let near_boundary = distances.iter().any(|d| d.abs() < SNAP_MARGIN);
+        if near_boundary && (inside_with_margin(1.0) || inside_with_margin(-1.0)) {
+            return None;
+        }
+        covered |= inside;
+    }
+    Some(covered)
+}
+
+fn run(ctx: &mut Ctx) -> Result<Outcome> {
+    let size = ctx.params.sizes("size")?[0];
+    let seed = ctx.params.count("seed")? as u32;
+    let vertices = scene(ctx.params.count("triangles")?, seed);
+
+    let first = render(ctx, size, &vertices, seed)?;
+    let second = render(ctx, size, &vertices, seed)?;
+
+    let (difference, mask) = compare(&second, &first, 0)?;
+    ctx.metric("differing_pixels", difference.differing_pixels);
+    if difference.differing_pixels > 0 {
+        ctx.evidence_image("repeat", &side_by_side(&second, &first, &mask))?;
+        return Ok(Outcome::Fail(format!(
+            "{} pixels differ between two renders of the same seed",
+            difference.differing_pixels
+        )));
+    }
+    // The render must show the scene: covered pixel centres shaded, uncovered ones background.
+    let mut wrong = 0u64;
+    let mut covered = 0u64;
+    let coverage_mask = image::RgbaImage::from_fn(size.0, size.1, |x, y| {
+        let shaded = first.get_pixel(x, y).0 != BACKGROUND;
+        match cpu_coverage(size, &vertices, x, y) {
+            Some(expected) if expected != shaded => {
+                wrong += 1;
+                image::Rgba([255, 0, 0, 255])
+            }
+            Some(expected) => {
+                covered += u64::from(expected);
+                image::Rgba([0, 0, 0, 255])
+            }
+            None => image::Rgba([64, 64, 64, 255]),
+        }
+    });
+    ctx.metric("covered_pixels", covered);
+    ctx.metric("coverage_mismatches", wrong);
+    if wrong > 0 || covered == 0 {
+        ctx.evidence_image("coverage", &side_by_side(&first, &first, &coverage_mask))?;
+        return Ok(Outcome::Fail(format!(
+            "{wrong} pixels disagree with the CPU's coverage of the scene ({covered} covered)"
+        )));
+    }
+    Ok(Outcome::Pass)
+}

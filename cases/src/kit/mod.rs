@@ -1,0 +1,7 @@
+//! `kit.*`: conformance of the adapter features the techniques rely on.
+
+pub mod determinism;
+pub mod early_rejection;
+pub mod msaa_sample_positions;
+pub mod occlusion_exact;
+pub mod scissor_msaa;

@@ -1,0 +1,18 @@
+//! fragkit's render cases, one per file under `<area>/`, and the registry the CLI and the tests
+//! share.
+
+use fragkit::harness::Case;
+
+pub mod kit;
+
+/// Every case, in the order `fragkit check` runs them.
+pub const ALL: &[Case] = &[
+    kit::msaa_sample_positions::CASE_1X,
+    kit::msaa_sample_positions::CASE_2X,
+    kit::msaa_sample_positions::CASE_4X,
+    kit::msaa_sample_positions::CASE_8X,
+    kit::occlusion_exact::CASE,
+    kit::scissor_msaa::CASE,
+    kit::early_rejection::CASE,
+    kit::determinism::CASE,
+];

@@ -1,0 +1,302 @@
+//! `fragkit`: list adapters, measure capabilities, list and run the conformance cases.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand};
+use fragkit::caps::Caps;
+use fragkit::gpu::{AdapterDescription, AdapterSelector, Gpu, all_adapters};
+use fragkit::harness::expectations::{BUILT_IN, Expectations};
+use fragkit::harness::params::parse_overrides;
+use fragkit::harness::report::Report;
+use fragkit::harness::runner::{check_overrides, run_case, select};
+
+#[derive(Parser)]
+#[command(
+    name = "fragkit",
+    version,
+    about = "Deterministic, compute-free GPU conformance kit"
+)]
+struct Cli {
+    /// Backend: vulkan, gl, metal, dx12.
+    #[arg(long, global = true, env = "WGPU_BACKEND")]
+    backend: Option<String>,
+    /// Substring of the adapter name.
+    #[arg(long, global = true, env = "WGPU_ADAPTER_NAME")]
+    adapter: Option<String>,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Every adapter on every backend.
+    Adapters,
+    /// Measure the selected adapter's capabilities with tiny renders.
+    Caps {
+        /// Also write the report as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+    /// List cases with their parameters and requirements.
+    List { pattern: Option<String> },
+    /// Run cases (glob patterns; all when none) and exit 1 on any unexpected failure.
+    Check {
+        patterns: Vec<String>,
+        /// Override a parameter: key=value.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+        /// Write the JSON report here.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Write evidence images into this folder.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Known-issues file (default: the one built in, cases/expectations.toml).
+        #[arg(long)]
+        expectations: Option<PathBuf>,
+    },
+}
+
+fn main() -> ExitCode {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(code) => code,
+        Err(error) => {
+            eprintln!("error: {error:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<ExitCode> {
+    let selector = AdapterSelector {
+        backend: cli.backend,
+        adapter_name: cli.adapter,
+    };
+    match cli.command {
+        Command::Adapters => {
+            let adapters = all_adapters();
+            if adapters.is_empty() {
+                anyhow::bail!(
+                    "no GPU adapter found. Install a Vulkan driver; on Debian `apt-get install mesa-vulkan-drivers` gives lavapipe"
+                );
+            }
+            for adapter in adapters {
+                let d = AdapterDescription::of(&adapter.get_info());
+                println!(
+                    "{:<8} {:<40} {} ({}) [{}]",
+                    d.backend, d.name, d.driver, d.driver_info, d.device_type
+                );
+            }
+        }
+        Command::Caps { json } => {
+            let gpu = Gpu::open(&selector)?;
+            let caps = Caps::measure(&gpu)?;
+            print_caps(&caps);
+            if let Some(path) = json {
+                let text = serde_json::to_string_pretty(&caps)?;
+                std::fs::write(&path, text)
+                    .with_context(|| format!("writing {}", path.display()))?;
+            }
+        }
+        Command::List { pattern } => {
+            let patterns: Vec<String> = pattern.into_iter().collect();
+            for case in select(fragkit_cases::ALL, &patterns)? {
+                let requires = if case.requires.is_empty() {
+                    String::new()
+                } else {
+                    format!(" [requires {:?}]", case.requires)
+                };
+                println!("{}{requires}\n    {}", case.name, case.summary);
+                for p in case.params {
+                    println!("    --set {}={}   ({})", p.name, p.default, p.help);
+                }
+            }
+        }
+        Command::Check {
+            patterns,
+            sets,
+            json,
+            out,
+            expectations,
+        } => {
+            return check(&selector, &patterns, &sets, json, out, expectations);
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn check(
+    selector: &AdapterSelector,
+    patterns: &[String],
+    sets: &[String],
+    json: Option<PathBuf>,
+    out: Option<PathBuf>,
+    expectations: Option<PathBuf>,
+) -> Result<ExitCode> {
+    // Check every input before touching the GPU.
+    let cases = select(fragkit_cases::ALL, patterns)?;
+    let overrides = parse_overrides(sets)?;
+    check_overrides(&cases, &overrides)?;
+    let expectations = match expectations {
+        Some(path) => Expectations::load(&path)?,
+        None => Expectations::parse(BUILT_IN, "cases/expectations.toml (built in)")?,
+    };
+    if let Some(dir) = &out {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("creating the evidence folder {}", dir.display()))?;
+    }
+    if let Some(path) = &json {
+        // Fail now, not after the run, when the report cannot be written.
+        let probe = path.with_extension("json.tmp");
+        std::fs::write(&probe, b"")
+            .with_context(|| format!("the report path {} is not writable", path.display()))?;
+        std::fs::remove_file(&probe).ok();
+    }
+    let gpu = Gpu::open(selector)?;
+    let d = &gpu.description;
+    println!(
+        "adapter: {} ({}, {} {})",
+        d.name, d.backend, d.driver, d.driver_info
+    );
+
+    let progress = indicatif::ProgressBar::new(cases.len() as u64);
+    progress.set_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
+            .expect("static template"),
+    );
+    let mut report = Report {
+        adapter: gpu.description.clone(),
+        cases: Vec::new(),
+    };
+    for case in cases {
+        progress.set_message(case.name);
+        report.cases.push(run_case(
+            &gpu,
+            case,
+            &overrides,
+            &expectations,
+            out.as_deref(),
+        ));
+        progress.inc(1);
+    }
+    progress.finish_and_clear();
+    print_table(&report);
+    if let Some(path) = &json {
+        report.write_atomically(path)?;
+    }
+    let failures = report.failures();
+    println!(
+        "{} cases: {} unexpected failures",
+        report.cases.len(),
+        failures
+    );
+    Ok(if failures == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
+
+/// The most telling metric of a case, shown in the table.
+fn key_metric(metrics: &std::collections::BTreeMap<String, serde_json::Value>) -> String {
+    const KEYS: &[&str] = &[
+        "positions",
+        "time_ratio",
+        "differing_pixels",
+        "4x.pixels_differing",
+        "precision",
+    ];
+    KEYS.iter()
+        .find_map(|k| metrics.get(*k).map(|v| format!("{k}={}", compact(v))))
+        .unwrap_or_default()
+}
+
+fn compact(value: &serde_json::Value) -> String {
+    match value {
+        serde_json::Value::Number(n) => n.as_f64().map_or(n.to_string(), |f| format!("{f:.3}")),
+        other => {
+            let text = other.to_string();
+            if text.len() > 60 {
+                format!("{}…", &text[..60])
+            } else {
+                text
+            }
+        }
+    }
+}
+
+fn print_table(report: &Report) {
+    println!(
+        "{:<34} {:<15} {:>9} {:>9}  {:<40} reason",
+        "case", "outcome", "gpu ms", "wall ms", "key metric"
+    );
+    for c in &report.cases {
+        let gpu_ms = c.gpu_ms.map_or("-".into(), |ms| format!("{ms:.2}"));
+        println!(
+            "{:<34} {:<15} {:>9} {:>9.1}  {:<40} {}",
+            c.name,
+            c.outcome.label(),
+            gpu_ms,
+            c.wall_ms,
+            key_metric(&c.metrics),
+            c.reason
+        );
+    }
+}
+
+fn print_caps(caps: &Caps) {
+    let d = &caps.adapter;
+    println!(
+        "adapter: {} ({}, {} {})",
+        d.name, d.backend, d.driver, d.driver_info
+    );
+    println!("max 2D texture: {}", caps.max_texture_dimension_2d);
+    for f in &caps.format_samples {
+        println!(
+            "sample counts advertised for {:<22} {:?}",
+            f.format, f.advertised
+        );
+    }
+    for m in &caps.multisample {
+        let positions = match &m.positions {
+            Ok(p) => format!("{:?}", p.iter().map(|s| s.mid()).collect::<Vec<_>>()),
+            Err(e) => format!("measurement failed: {e}"),
+        };
+        println!(
+            "{}x: standard positions: {}; measured {positions}",
+            m.samples, m.standard_positions
+        );
+        match &m.per_sample_shading {
+            Ok(s) => println!(
+                "    per-sample shading: sample_index {:?}, position {:?}",
+                s.sample_index, s.position
+            ),
+            Err(e) => println!("    per-sample shading: failed: {e}"),
+        }
+        match &m.alpha_to_coverage {
+            Ok(a) => println!(
+                "    alpha-to-coverage: levels {:?}, monotonic {}, dithered {}, masks {:?}, thresholds (count, alpha*256) {:?}",
+                a.levels, a.monotonic, a.dithered, a.masks, a.thresholds
+            ),
+            Err(e) => println!("    alpha-to-coverage: {e}"),
+        }
+    }
+    println!(
+        "real sample counts (measured): {:?}",
+        caps.real_sample_counts()
+    );
+    println!("occlusion queries: {:?}", caps.occlusion);
+    println!(
+        "timestamps: {} (period {} ns)",
+        caps.timestamps, caps.timestamp_period_ns
+    );
+    println!(
+        "early depth test feature: {}",
+        caps.early_depth_test_feature
+    );
+    println!("fragment storage writes: {}", caps.fragment_storage_writes);
+}

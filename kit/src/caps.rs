@@ -1,0 +1,161 @@
+//! `Caps`: what an adapter can do, each entry filled by a measurement (a tiny render) where one
+//! is possible, by the API's claim only where nothing can be rendered to check it.
+
+use anyhow::Result;
+use serde::Serialize;
+
+use crate::gpu::{AdapterDescription, Gpu};
+use crate::probe::alpha_to_coverage::{AlphaToCoverage, measure_alpha_to_coverage};
+use crate::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
+use crate::probe::sample_positions::{
+    PerSampleShading, SamplePosition, measure_by_resolve, measure_per_sample_shading,
+    standard_positions,
+};
+
+/// Formats whose multisample support the report lists.
+pub const PROBED_FORMATS: &[wgpu::TextureFormat] = &[
+    wgpu::TextureFormat::Rgba8Unorm,
+    wgpu::TextureFormat::Rgba16Float,
+    wgpu::TextureFormat::Depth24PlusStencil8,
+    wgpu::TextureFormat::Depth32Float,
+];
+
+pub const SAMPLE_COUNTS: &[u32] = &[1, 2, 4, 8];
+
+#[derive(Clone, Debug, Serialize)]
+pub struct FormatSamples {
+    pub format: String,
+    /// What the adapter claims (with `TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES` where present).
+    pub advertised: Vec<u32>,
+}
+
+/// What rendering to an N-sample target really did.
+#[derive(Clone, Debug, Serialize)]
+pub struct MultisampleMeasurement {
+    pub samples: u32,
+    /// Measured positions, or the error that stopped the measurement.
+    pub positions: Result<Vec<SamplePosition>, String>,
+    /// True when every sample was found, at distinct places, matching the standard table.
+    pub standard_positions: bool,
+    pub per_sample_shading: Result<PerSampleShading, String>,
+    pub alpha_to_coverage: Result<AlphaToCoverage, String>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Caps {
+    pub adapter: AdapterDescription,
+    pub max_texture_dimension_2d: u32,
+    pub format_samples: Vec<FormatSamples>,
+    /// Sample counts advertised for every probed colour and depth format alike.
+    pub advertised_sample_counts: Vec<u32>,
+    pub multisample: Vec<MultisampleMeasurement>,
+    pub occlusion: Result<OcclusionPrecision, String>,
+    pub timestamps: bool,
+    pub timestamp_period_ns: f32,
+    pub early_depth_test_feature: bool,
+    pub fragment_storage_writes: bool,
+}
+
+/// Sample counts the adapter claims for `format`.
+pub fn advertised_sample_counts(gpu: &Gpu, format: wgpu::TextureFormat) -> Vec<u32> {
+    let claimed = if gpu.has(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) {
+        gpu.adapter
+            .get_texture_format_features(format)
+            .flags
+            .supported_sample_counts()
+    } else {
+        format
+            .guaranteed_format_features(gpu.device.features())
+            .flags
+            .supported_sample_counts()
+    };
+    SAMPLE_COUNTS
+        .iter()
+        .copied()
+        .filter(|n| claimed.contains(n))
+        .collect()
+}
+
+/// Sample counts that every probed format claims.
+pub fn common_sample_counts(gpu: &Gpu) -> Vec<u32> {
+    SAMPLE_COUNTS
+        .iter()
+        .copied()
+        .filter(|&n| {
+            PROBED_FORMATS
+                .iter()
+                .all(|&f| advertised_sample_counts(gpu, f).contains(&n))
+        })
+        .collect()
+}
+
+/// True when each sample's measured interval holds its standard position and no two samples
+/// share a place.
+pub fn matches_standard(samples: u32, positions: &[SamplePosition]) -> bool {
+    let Some(table) = standard_positions(samples) else {
+        return false;
+    };
+    positions.len() == table.len()
+        && positions.iter().zip(table).all(|(measured, &[x, y])| {
+            measured.x.is_some_and(|i| i.contains(x)) && measured.y.is_some_and(|i| i.contains(y))
+        })
+}
+
+impl Caps {
+    pub fn measure(gpu: &Gpu) -> Result<Self> {
+        let common_counts = common_sample_counts(gpu);
+        let multisample = common_counts
+            .iter()
+            .map(|&samples| {
+                let positions = measure_by_resolve(gpu, samples).map_err(|e| format!("{e:#}"));
+                let standard_positions = positions
+                    .as_ref()
+                    .is_ok_and(|p| matches_standard(samples, p));
+                MultisampleMeasurement {
+                    samples,
+                    positions,
+                    standard_positions,
+                    per_sample_shading: measure_per_sample_shading(gpu, samples)
+                        .map_err(|e| format!("{e:#}")),
+                    alpha_to_coverage: if samples > 1 {
+                        measure_alpha_to_coverage(gpu, samples).map_err(|e| format!("{e:#}"))
+                    } else {
+                        Err("alpha-to-coverage needs more than one sample".into())
+                    },
+                }
+            })
+            .collect();
+        let limits = gpu.device.limits();
+        let downlevel = gpu.adapter.get_downlevel_capabilities();
+        Ok(Self {
+            adapter: gpu.description.clone(),
+            max_texture_dimension_2d: limits.max_texture_dimension_2d,
+            format_samples: PROBED_FORMATS
+                .iter()
+                .map(|&f| FormatSamples {
+                    format: format!("{f:?}"),
+                    advertised: advertised_sample_counts(gpu, f),
+                })
+                .collect(),
+            advertised_sample_counts: common_counts,
+            multisample,
+            occlusion: measure_occlusion_precision(gpu).map_err(|e| format!("{e:#}")),
+            timestamps: gpu.has(wgpu::Features::TIMESTAMP_QUERY),
+            timestamp_period_ns: gpu.queue.get_timestamp_period(),
+            early_depth_test_feature: gpu.has(wgpu::Features::SHADER_EARLY_DEPTH_TEST),
+            fragment_storage_writes: downlevel
+                .flags
+                .contains(wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE)
+                && limits.max_storage_buffers_per_shader_stage > 0,
+        })
+    }
+
+    /// Sample counts where a real N-sample target rendered N samples at the standard positions.
+    pub fn real_sample_counts(&self) -> Vec<u32> {
+        self.multisample
+            .iter()
+            .filter(|m| m.standard_positions)
+            .map(|m| m.samples)
+            .collect()
+    }
+}

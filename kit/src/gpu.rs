@@ -1,0 +1,246 @@
+//! The headless GPU context: pick an adapter by backend and name, open a device with only the
+//! features that adapter has, and keep its description for reports.
+
+use anyhow::{Context, Result, anyhow, bail};
+use serde::Serialize;
+
+/// Which adapter to open. `None` fields fall back to `WGPU_BACKEND` / `WGPU_ADAPTER_NAME`,
+/// the variables wgpu's own utilities honour, then to wgpu's default choice.
+#[derive(Clone, Debug, Default)]
+pub struct AdapterSelector {
+    /// A backend name: `vulkan`/`vk`, `gl`/`gles`/`opengl`, `metal`, `dx12`.
+    pub backend: Option<String>,
+    /// A case-insensitive substring of the adapter name.
+    pub adapter_name: Option<String>,
+}
+
+/// What the report says about an adapter.
+#[derive(Clone, Debug, Default, Serialize, PartialEq, Eq)]
+pub struct AdapterDescription {
+    pub name: String,
+    pub backend: String,
+    pub driver: String,
+    pub driver_info: String,
+    pub device_type: String,
+}
+
+impl AdapterDescription {
+    pub fn of(info: &wgpu::AdapterInfo) -> Self {
+        Self {
+            name: info.name.clone(),
+            backend: info.backend.to_str().to_owned(),
+            driver: info.driver.clone(),
+            driver_info: info.driver_info.clone(),
+            device_type: format!("{:?}", info.device_type),
+        }
+    }
+
+    /// A file-name-safe identifier, used to keep one adapter's snapshots from judging another's.
+    pub fn slug(&self) -> String {
+        let raw = format!("{}-{}", self.backend, self.name);
+        let mut slug = String::with_capacity(raw.len());
+        for c in raw.chars() {
+            if c.is_ascii_alphanumeric() {
+                slug.push(c.to_ascii_lowercase());
+            } else if !slug.ends_with('_') {
+                slug.push('_');
+            }
+        }
+        slug.trim_matches('_').to_owned()
+    }
+}
+
+/// An open device on one adapter.
+pub struct Gpu {
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub description: AdapterDescription,
+}
+
+const NO_ADAPTER_HELP: &str = "no GPU adapter found. Install a Vulkan driver; on Debian/Ubuntu without a GPU, \
+     `apt-get install mesa-vulkan-drivers libvulkan1` provides lavapipe, Mesa's software rasteriser";
+
+/// Parses a backend name strictly (wgpu's own parser skips unknown names with a warning).
+pub fn parse_backend(name: &str) -> Result<wgpu::Backends> {
+    match name.trim().to_ascii_lowercase().as_str() {
+        "vulkan" | "vk" => Ok(wgpu::Backends::VULKAN),
+        "gl" | "gles" | "opengl" => Ok(wgpu::Backends::GL),
+        "metal" | "mtl" => Ok(wgpu::Backends::METAL),
+        "dx12" | "d3d12" => Ok(wgpu::Backends::DX12),
+        other => bail!("unknown backend {other:?}; expected one of vulkan, gl, metal, dx12"),
+    }
+}
+
+fn instance(backends: wgpu::Backends) -> wgpu::Instance {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+    desc.backends = backends;
+    wgpu::Instance::new(desc)
+}
+
+impl AdapterSelector {
+    fn backends(&self) -> Result<wgpu::Backends> {
+        match self
+            .backend
+            .clone()
+            .or_else(|| std::env::var("WGPU_BACKEND").ok())
+        {
+            Some(name) => {
+                parse_backend(&name).context("choosing the backend (--backend / WGPU_BACKEND)")
+            }
+            None => Ok(wgpu::Backends::VULKAN
+                | wgpu::Backends::GL
+                | wgpu::Backends::METAL
+                | wgpu::Backends::DX12),
+        }
+    }
+
+    fn name_filter(&self) -> Option<String> {
+        self.adapter_name
+            .clone()
+            .or_else(|| std::env::var("WGPU_ADAPTER_NAME").ok())
+            .filter(|name| !name.is_empty())
+    }
+}
+
+/// Every adapter on every backend this build supports.
+pub fn all_adapters() -> Vec<wgpu::Adapter> {
+    let backends =
+        wgpu::Backends::VULKAN | wgpu::Backends::GL | wgpu::Backends::METAL | wgpu::Backends::DX12;
+    pollster::block_on(instance(backends).enumerate_adapters(backends))
+}
+
+/// Picks the adapter a selector names: by name among all adapters of its backends, or wgpu's
+/// preferred one, where Vulkan wins over GL.
+pub fn select_adapter(selector: &AdapterSelector) -> Result<wgpu::Adapter> {
+    let backends = selector.backends()?;
+    let candidates = pollster::block_on(instance(backends).enumerate_adapters(backends));
+    if candidates.is_empty() {
+        bail!("{NO_ADAPTER_HELP} (backends searched: {backends:?})");
+    }
+    let mut matching: Vec<wgpu::Adapter> = match selector.name_filter() {
+        Some(filter) => {
+            let needle = filter.to_lowercase();
+            let names: Vec<String> = candidates.iter().map(|a| a.get_info().name).collect();
+            let found: Vec<wgpu::Adapter> = candidates
+                .into_iter()
+                .filter(|a| a.get_info().name.to_lowercase().contains(&needle))
+                .collect();
+            if found.is_empty() {
+                bail!(
+                    "no adapter name contains {filter:?} (--adapter / WGPU_ADAPTER_NAME); adapters found: {names:?}"
+                );
+            }
+            found
+        }
+        None => candidates,
+    };
+    // Prefer real hardware, then Vulkan over GL: the order wgpu's own default follows.
+    matching.sort_by_key(|a| {
+        let info = a.get_info();
+        let hardware = !matches!(
+            info.device_type,
+            wgpu::DeviceType::Cpu | wgpu::DeviceType::Other
+        );
+        let vulkan = info.backend == wgpu::Backend::Vulkan;
+        (!hardware, !vulkan)
+    });
+    Ok(matching.remove(0))
+}
+
+/// The optional features the kit uses when an adapter offers them; a case that needs a missing
+/// one reports NotSupported.
+pub const WANTED_FEATURES: wgpu::Features =
+    wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
+        .union(wgpu::Features::TIMESTAMP_QUERY)
+        .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
+        .union(wgpu::Features::SHADER_EARLY_DEPTH_TEST);
+
+impl Gpu {
+    /// Opens the adapter a selector names.
+    pub fn open(selector: &AdapterSelector) -> Result<Self> {
+        Self::from_adapter(select_adapter(selector)?)
+    }
+
+    pub fn from_adapter(adapter: wgpu::Adapter) -> Result<Self> {
+        let info = adapter.get_info();
+        let required_features = adapter.features() & WANTED_FEATURES;
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("fragkit device"),
+            required_features,
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }))
+        .map_err(|e| anyhow!("{e}"))
+        .with_context(|| format!("opening a device on {} ({})", info.name, info.backend))?;
+        // Errors outside a case's error scope must not abort the process: log them, the
+        // harness captures the ones that matter per case.
+        device.on_uncaptured_error(std::sync::Arc::new(|error| {
+            log::error!("uncaptured wgpu error: {error}")
+        }));
+        Ok(Self {
+            description: AdapterDescription::of(&info),
+            adapter,
+            device,
+            queue,
+        })
+    }
+
+    pub fn has(&self, features: wgpu::Features) -> bool {
+        self.device.features().contains(features)
+    }
+
+    /// Waits for all submitted work.
+    pub fn wait(&self) -> Result<()> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| anyhow!("waiting for the GPU: {e}"))
+    }
+}
+
+impl Gpu {
+    /// Runs `body` inside validation, out-of-memory and internal error scopes and turns any
+    /// error they caught into an `Err` naming `what`.
+    pub fn scoped<T>(&self, what: &str, body: impl FnOnce() -> Result<T>) -> Result<T> {
+        let internal = self.device.push_error_scope(wgpu::ErrorFilter::Internal);
+        let memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let result = body();
+        let errors = [validation.pop(), memory.pop(), internal.pop()].map(pollster::block_on);
+        if let Some(error) = errors.into_iter().flatten().next() {
+            bail!("wgpu error during {what}: {error}");
+        }
+        result
+    }
+
+    /// A 2D texture with one mip level.
+    pub fn texture(
+        &self,
+        label: &str,
+        (width, height): (u32, u32),
+        format: wgpu::TextureFormat,
+        samples: u32,
+        usage: wgpu::TextureUsages,
+    ) -> wgpu::Texture {
+        self.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: samples,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    }
+
+    pub fn encoder(&self, label: &str) -> wgpu::CommandEncoder {
+        self.device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) })
+    }
+}

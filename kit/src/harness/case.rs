@@ -1,0 +1,89 @@
+//! A render case: a named experiment with requirements and parameters that ends in one outcome.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use serde::Serialize;
+
+use super::params::{ParamSpec, Params};
+use crate::gpu::Gpu;
+use crate::query::PassTime;
+
+/// What a case concluded.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Outcome {
+    Pass,
+    /// The evidence is in the case's metrics and images; the text says what differed.
+    Fail(String),
+    /// The adapter lacks what the case checks; the text names the missing capability.
+    NotSupported(String),
+}
+
+/// A case, declared as data; `run` reads top to bottom as setup → render → measure → compare.
+pub struct Case {
+    /// Hierarchical name: `area.subject.aspect`.
+    pub name: &'static str,
+    pub summary: &'static str,
+    /// Device features without which the case is NotSupported.
+    pub requires: wgpu::Features,
+    pub params: &'static [ParamSpec],
+    pub run: fn(&mut Ctx) -> Result<Outcome>,
+}
+
+/// What a running case can use and record.
+pub struct Ctx<'a> {
+    pub gpu: &'a Gpu,
+    pub params: Params,
+    pub(crate) case_name: &'static str,
+    pub(crate) metrics: BTreeMap<String, serde_json::Value>,
+    pub(crate) gpu_ms: Option<f64>,
+    pub(crate) evidence_dir: Option<PathBuf>,
+    pub(crate) evidence: Vec<PathBuf>,
+}
+
+impl<'a> Ctx<'a> {
+    pub(crate) fn new(
+        gpu: &'a Gpu,
+        case_name: &'static str,
+        params: Params,
+        evidence_dir: Option<PathBuf>,
+    ) -> Self {
+        Self {
+            gpu,
+            params,
+            case_name,
+            metrics: BTreeMap::new(),
+            gpu_ms: None,
+            evidence_dir,
+            evidence: Vec::new(),
+        }
+    }
+
+    /// Records a measured quantity for the report.
+    pub fn metric(&mut self, name: &str, value: impl Serialize) {
+        let value = serde_json::to_value(value)
+            .unwrap_or_else(|e| serde_json::Value::String(format!("<{e}>")));
+        self.metrics.insert(name.to_owned(), value);
+    }
+
+    /// Adds timed passes to the case's GPU time.
+    pub fn gpu_time(&mut self, passes: &[PassTime]) {
+        if !passes.is_empty() {
+            *self.gpu_ms.get_or_insert(0.0) += passes.iter().map(|p| p.ms).sum::<f64>();
+        }
+    }
+
+    /// Writes an evidence image (when the run has an output folder) and lists it in the report.
+    pub fn evidence_image(&mut self, name: &str, image: &image::RgbaImage) -> Result<()> {
+        let Some(dir) = &self.evidence_dir else {
+            return Ok(());
+        };
+        let path = dir.join(format!("{}.{name}.png", self.case_name));
+        image
+            .save(&path)
+            .with_context(|| format!("writing evidence image {}", path.display()))?;
+        self.evidence.push(path);
+        Ok(())
+    }
+}

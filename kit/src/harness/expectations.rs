@@ -1,0 +1,96 @@
+//! Known driver issues, as data: a case that fails on an adapter matching an entry is reported
+//! as `known_issue`; a listed case that passes is an `unexpected_pass` and fails the run until
+//! the entry is removed (as wgpu's test harness and the WebGPU CTS do).
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use glob::{MatchOptions, Pattern};
+use serde::Deserialize;
+
+use crate::gpu::AdapterDescription;
+
+/// The expectations shipped with the kit.
+pub const BUILT_IN: &str = include_str!("../../../cases/expectations.toml");
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KnownIssue {
+    /// Case name glob.
+    pub case: String,
+    /// Globs over the adapter's description; an absent field matches anything.
+    pub backend: Option<String>,
+    pub adapter: Option<String>,
+    pub driver: Option<String>,
+    pub driver_info: Option<String>,
+    /// Why it fails, with the measured evidence.
+    pub reason: String,
+}
+
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Expectations {
+    #[serde(default, rename = "known_issue")]
+    pub known_issues: Vec<KnownIssue>,
+}
+
+/// Patterns were checked by [`Expectations::parse`]; one that still fails to parse matches nothing.
+fn glob_matches(pattern: &str, text: &str) -> bool {
+    let options = MatchOptions {
+        case_sensitive: false,
+        ..Default::default()
+    };
+    Pattern::new(pattern).is_ok_and(|p| p.matches_with(text, options))
+}
+
+impl Expectations {
+    pub fn parse(text: &str, origin: &str) -> Result<Self> {
+        let parsed: Self =
+            toml::from_str(text).with_context(|| format!("parsing expectations file {origin}"))?;
+        // Reject bad globs now rather than at the first match.
+        for issue in &parsed.known_issues {
+            let patterns = [
+                Some(&issue.case),
+                issue.backend.as_ref(),
+                issue.adapter.as_ref(),
+                issue.driver.as_ref(),
+                issue.driver_info.as_ref(),
+            ];
+            for pattern in patterns.into_iter().flatten() {
+                Pattern::new(pattern).with_context(|| {
+                    format!(
+                        "expectations file {origin}: bad pattern {pattern:?} in the entry for {:?}",
+                        issue.case
+                    )
+                })?;
+            }
+        }
+        Ok(parsed)
+    }
+
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("reading expectations file {}", path.display()))?;
+        Self::parse(&text, &path.display().to_string())
+    }
+
+    /// The known issue listed for this case on this adapter, if any.
+    pub fn find(&self, case: &str, adapter: &AdapterDescription) -> Option<&KnownIssue> {
+        self.known_issues
+            .iter()
+            .find(|issue| issue.matches(case, adapter))
+    }
+}
+
+impl KnownIssue {
+    fn matches(&self, case: &str, adapter: &AdapterDescription) -> bool {
+        let field = |pattern: &Option<String>, text: &str| {
+            pattern.as_deref().is_none_or(|p| glob_matches(p, text))
+        };
+        glob_matches(&self.case, case)
+            && field(&self.backend, &adapter.backend)
+            && field(&self.adapter, &adapter.name)
+            && field(&self.driver, &adapter.driver)
+            && field(&self.driver_info, &adapter.driver_info)
+    }
+}

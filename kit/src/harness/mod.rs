@@ -1,0 +1,11 @@
+//! The case harness: cases with parameters and requirements, outcomes, the expectations file of
+//! known driver issues, the runner that isolates each case, and the JSON report.
+
+pub mod case;
+pub mod expectations;
+pub mod params;
+pub mod report;
+pub mod runner;
+
+pub use case::{Case, Ctx, Outcome};
+pub use params::{ParamKind, ParamSpec};

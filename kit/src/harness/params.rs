@@ -1,0 +1,138 @@
+//! Named case parameters with typed defaults, overridable with `--set key=value`.
+
+use std::collections::BTreeMap;
+
+use anyhow::{Context, Result, bail};
+use serde::Serialize;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ParamKind {
+    /// A non-negative integer.
+    Count,
+    /// A comma-separated list of non-negative integers: `1,2,4,8`.
+    Counts,
+    /// A comma-separated list of sizes: `1x1,7x5,64x64`.
+    Sizes,
+}
+
+/// A parameter a case declares.
+#[derive(Clone, Copy, Debug)]
+pub struct ParamSpec {
+    pub name: &'static str,
+    pub kind: ParamKind,
+    pub default: &'static str,
+    pub help: &'static str,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum ParamValue {
+    Count(u64),
+    Counts(Vec<u64>),
+    Sizes(Vec<(u32, u32)>),
+}
+
+fn parse_count(text: &str) -> Result<u64> {
+    text.trim()
+        .parse::<u64>()
+        .with_context(|| format!("{text:?} is not a non-negative integer"))
+}
+
+fn parse_size(text: &str) -> Result<(u32, u32)> {
+    let (w, h) = text
+        .trim()
+        .split_once('x')
+        .with_context(|| format!("{text:?} is not a size like 64x32"))?;
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .with_context(|| format!("{v:?} in size {text:?} is not an integer"))
+    };
+    let size = (parse(w)?, parse(h)?);
+    if size.0 == 0 || size.1 == 0 {
+        bail!("size {text:?} is empty; both sides must be at least 1");
+    }
+    Ok(size)
+}
+
+impl ParamKind {
+    pub fn parse(self, text: &str) -> Result<ParamValue> {
+        Ok(match self {
+            ParamKind::Count => ParamValue::Count(parse_count(text)?),
+            ParamKind::Counts => {
+                ParamValue::Counts(text.split(',').map(parse_count).collect::<Result<_>>()?)
+            }
+            ParamKind::Sizes => {
+                ParamValue::Sizes(text.split(',').map(parse_size).collect::<Result<_>>()?)
+            }
+        })
+    }
+}
+
+/// One case's resolved parameter values.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Params(BTreeMap<&'static str, ParamValue>);
+
+impl Params {
+    /// Defaults of `specs`, with `overrides` (key → text) applied where a spec has that key.
+    pub fn resolve(
+        case: &str,
+        specs: &[ParamSpec],
+        overrides: &BTreeMap<String, String>,
+    ) -> Result<Self> {
+        let mut values = BTreeMap::new();
+        for spec in specs {
+            let (text, source) = match overrides.get(spec.name) {
+                Some(text) => (text.as_str(), "--set"),
+                None => (spec.default, "the default"),
+            };
+            let value = spec.kind.parse(text).with_context(|| {
+                format!(
+                    "parameter {:?} of {case} (from {source}): {}",
+                    spec.name, spec.help
+                )
+            })?;
+            values.insert(spec.name, value);
+        }
+        Ok(Self(values))
+    }
+
+    fn get(&self, name: &str) -> Result<&ParamValue> {
+        self.0
+            .get(name)
+            .with_context(|| format!("case declares no parameter {name:?}"))
+    }
+
+    pub fn count(&self, name: &str) -> Result<u64> {
+        match self.get(name)? {
+            ParamValue::Count(v) => Ok(*v),
+            other => bail!("parameter {name:?} is {other:?}, not a count"),
+        }
+    }
+
+    pub fn counts(&self, name: &str) -> Result<Vec<u64>> {
+        match self.get(name)? {
+            ParamValue::Counts(v) => Ok(v.clone()),
+            other => bail!("parameter {name:?} is {other:?}, not a list of counts"),
+        }
+    }
+
+    pub fn sizes(&self, name: &str) -> Result<Vec<(u32, u32)>> {
+        match self.get(name)? {
+            ParamValue::Sizes(v) => Ok(v.clone()),
+            other => bail!("parameter {name:?} is {other:?}, not a list of sizes"),
+        }
+    }
+}
+
+/// Parses `--set key=value` arguments.
+pub fn parse_overrides(sets: &[String]) -> Result<BTreeMap<String, String>> {
+    sets.iter()
+        .map(|set| {
+            let (key, value) = set
+                .split_once('=')
+                .with_context(|| format!("--set {set:?}: expected key=value"))?;
+            Ok((key.trim().to_owned(), value.trim().to_owned()))
+        })
+        .collect()
+}

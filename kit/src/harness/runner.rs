@@ -1,0 +1,132 @@
+//! Runs one case in isolation: requirements first, then the body inside error scopes and a panic
+//! guard, so that a validation error or a panic fails that case and the run goes on.
+
+use std::collections::BTreeMap;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{Result, bail};
+use glob::Pattern;
+
+use super::case::{Case, Ctx, Outcome};
+use super::expectations::Expectations;
+use super::params::Params;
+use super::report::{CaseRecord, ReportedOutcome};
+use crate::gpu::Gpu;
+
+/// Cases whose names match any of `patterns` (globs; none means all). A pattern that matches
+/// nothing is an error, so a typo never silently runs zero cases.
+pub fn select<'c>(cases: &'c [Case], patterns: &[String]) -> Result<Vec<&'c Case>> {
+    if patterns.is_empty() {
+        return Ok(cases.iter().collect());
+    }
+    let mut selected: Vec<&Case> = Vec::new();
+    for text in patterns {
+        let pattern =
+            Pattern::new(text).map_err(|e| anyhow::anyhow!("bad case pattern {text:?}: {e}"))?;
+        let matching: Vec<&Case> = cases.iter().filter(|c| pattern.matches(c.name)).collect();
+        if matching.is_empty() {
+            let names: Vec<&str> = cases.iter().map(|c| c.name).collect();
+            bail!(
+                "case pattern {text:?} matches no case; cases are: {}",
+                names.join(", ")
+            );
+        }
+        for case in matching {
+            if !selected.iter().any(|c| c.name == case.name) {
+                selected.push(case);
+            }
+        }
+    }
+    Ok(selected)
+}
+
+/// Checks that every `--set` key names a parameter of at least one selected case.
+pub fn check_overrides(cases: &[&Case], overrides: &BTreeMap<String, String>) -> Result<()> {
+    for key in overrides.keys() {
+        let owners: Vec<&Case> = cases
+            .iter()
+            .copied()
+            .filter(|c| c.params.iter().any(|p| p.name == key))
+            .collect();
+        if owners.is_empty() {
+            let known: Vec<&str> = cases
+                .iter()
+                .flat_map(|c| c.params.iter().map(|p| p.name))
+                .collect();
+            bail!(
+                "--set {key}: no selected case has a parameter {key:?}; parameters of the selected cases: {known:?}"
+            );
+        }
+        for case in owners {
+            Params::resolve(case.name, case.params, overrides)?;
+        }
+    }
+    Ok(())
+}
+
+fn panic_message(payload: Box<dyn std::any::Any + Send>) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "panic with a non-text payload".into())
+}
+
+/// Runs one case and applies the expectations file to its outcome.
+pub fn run_case(
+    gpu: &Gpu,
+    case: &Case,
+    overrides: &BTreeMap<String, String>,
+    expectations: &Expectations,
+    evidence_dir: Option<&Path>,
+) -> CaseRecord {
+    let started = Instant::now();
+    let (params, params_error) = match Params::resolve(case.name, case.params, overrides) {
+        Ok(params) => (params, None),
+        Err(e) => (Params::default(), Some(format!("{e:#}"))),
+    };
+    let mut ctx = Ctx::new(gpu, case.name, params, evidence_dir.map(Path::to_path_buf));
+    let missing = case.requires - gpu.device.features();
+    let outcome = if let Some(error) = params_error {
+        Outcome::Fail(error)
+    } else if !missing.is_empty() {
+        Outcome::NotSupported(format!("adapter lacks {missing:?}"))
+    } else {
+        let guarded = catch_unwind(AssertUnwindSafe(|| {
+            gpu.scoped(case.name, || (case.run)(&mut ctx))
+        }));
+        match guarded {
+            Ok(Ok(outcome)) => outcome,
+            Ok(Err(error)) => Outcome::Fail(format!("{error:#}")),
+            Err(payload) => Outcome::Fail(format!("panicked: {}", panic_message(payload))),
+        }
+    };
+    let (outcome, reason) = match (outcome, expectations.find(case.name, &gpu.description)) {
+        (Outcome::Pass, None) => (ReportedOutcome::Pass, String::new()),
+        (Outcome::Pass, Some(issue)) => (
+            ReportedOutcome::UnexpectedPass,
+            format!(
+                "passed, but the expectations file lists it as a known issue ({}); remove the entry",
+                issue.reason
+            ),
+        ),
+        (Outcome::Fail(why), None) => (ReportedOutcome::Fail, why),
+        (Outcome::Fail(why), Some(issue)) => (
+            ReportedOutcome::KnownIssue,
+            format!("{why} [known: {}]", issue.reason),
+        ),
+        (Outcome::NotSupported(why), _) => (ReportedOutcome::NotSupported, why),
+    };
+    CaseRecord {
+        name: case.name.to_owned(),
+        outcome,
+        reason,
+        params: ctx.params,
+        metrics: ctx.metrics,
+        gpu_ms: ctx.gpu_ms,
+        wall_ms: started.elapsed().as_secs_f64() * 1e3,
+        evidence: ctx.evidence,
+    }
+}

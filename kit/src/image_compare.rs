@@ -1,0 +1,72 @@
+//! Image comparison: per-channel differences, PSNR and an error mask to show where they differ.
+
+use anyhow::{Result, ensure};
+use image::{Rgba, RgbaImage};
+use serde::Serialize;
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ImageDifference {
+    /// Pixels where any channel differs by more than the tolerance.
+    pub differing_pixels: u64,
+    /// Largest per-channel difference, in 8-bit steps.
+    pub max_channel_difference: u8,
+    /// PSNR over RGB in dB; infinite for identical images.
+    pub psnr_db: f64,
+}
+
+/// Compares two equally sized images; `tolerance` is in 8-bit steps per channel.
+pub fn compare(
+    result: &RgbaImage,
+    reference: &RgbaImage,
+    tolerance: u8,
+) -> Result<(ImageDifference, RgbaImage)> {
+    ensure!(
+        result.dimensions() == reference.dimensions(),
+        "cannot compare a {:?} result with a {:?} reference",
+        result.dimensions(),
+        reference.dimensions()
+    );
+    let mut mask = RgbaImage::new(result.width(), result.height());
+    let (mut differing, mut max, mut squared) = (0u64, 0u8, 0f64);
+    for ((a, b), m) in result
+        .pixels()
+        .zip(reference.pixels())
+        .zip(mask.pixels_mut())
+    {
+        let worst = (0..4).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0);
+        squared += (0..3)
+            .map(|c| f64::from(a[c].abs_diff(b[c])).powi(2))
+            .sum::<f64>();
+        max = max.max(worst);
+        *m = if worst > tolerance {
+            differing += 1;
+            Rgba([255, 0, 0, 255])
+        } else {
+            Rgba([b[0] / 4, b[1] / 4, b[2] / 4, 255])
+        };
+    }
+    let mse = squared / (3.0 * f64::from(result.width() * result.height()).max(1.0));
+    let psnr_db = if mse == 0.0 {
+        f64::INFINITY
+    } else {
+        10.0 * (255.0f64.powi(2) / mse).log10()
+    };
+    Ok((
+        ImageDifference {
+            differing_pixels: differing,
+            max_channel_difference: max,
+            psnr_db,
+        },
+        mask,
+    ))
+}
+
+/// Result, reference and error mask side by side, as VK-GL-CTS writes them.
+pub fn side_by_side(result: &RgbaImage, reference: &RgbaImage, mask: &RgbaImage) -> RgbaImage {
+    let (w, h) = result.dimensions();
+    let mut out = RgbaImage::new(w * 3, h);
+    for (i, img) in [result, reference, mask].into_iter().enumerate() {
+        image::imageops::replace(&mut out, img, i64::from(w) * i as i64, 0);
+    }
+    out
+}

@@ -1,0 +1,18 @@
+//! fragkit: a deterministic, compute-free GPU conformance kit on wgpu.
+//!
+//! The GPU produces results (read-back, occlusion counts, timestamps); CPU code only computes
+//! the exact expectations they are compared with.
+
+pub mod attachments;
+pub mod caps;
+pub mod gpu;
+pub mod harness;
+pub mod image_compare;
+pub mod probe;
+pub mod query;
+pub mod readback;
+pub mod rects;
+pub mod scene;
+pub mod shaders;
+
+pub use gpu::{AdapterSelector, Gpu};

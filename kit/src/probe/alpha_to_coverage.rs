@@ -1,0 +1,151 @@
+//! The alpha-to-coverage transfer function: for each alpha on a fine grid, which samples a
+//! fragment covers. One draw sweeps alpha along x (`shaders/kit/alpha_ramp.wgsl`); several rows
+//! show whether the adapter dithers (different masks for the same alpha at different pixels).
+
+use std::collections::BTreeSet;
+
+use anyhow::Result;
+use serde::Serialize;
+use wgpu::util::DeviceExt;
+
+use crate::attachments::colour;
+use crate::gpu::Gpu;
+use crate::readback::read_rgba8;
+use crate::rects::{Rect, RectBatch, RectFragment, RectPipeline};
+
+/// Alpha steps of the sweep: alpha = column / ALPHA_STEPS.
+pub const ALPHA_STEPS: u32 = 256;
+/// Rows (pixels with the same alpha) inspected for dithering.
+pub const ROWS: u32 = 4;
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct AlphaToCoverage {
+    pub samples: u32,
+    /// Covered-sample count per alpha step, averaged over the rows.
+    pub mean_covered: Vec<f32>,
+    /// Distinct covered counts seen over the sweep.
+    pub levels: Vec<u32>,
+    /// Coverage never decreases as alpha grows (per pixel).
+    pub monotonic: bool,
+    /// Pixels with the same alpha got different masks.
+    pub dithered: bool,
+    /// Distinct sample masks seen, in order of first appearance as alpha grows.
+    pub masks: Vec<u32>,
+    /// For each covered count, the smallest alpha step that reached it.
+    pub thresholds: Vec<(u32, u32)>,
+}
+
+pub fn measure_alpha_to_coverage(gpu: &Gpu, samples: u32) -> Result<AlphaToCoverage> {
+    gpu.scoped(&format!("{samples}x alpha-to-coverage probe"), || {
+        let size = (ALPHA_STEPS + 1, ROWS);
+        let format = wgpu::TextureFormat::Rgba8Unorm;
+        let msaa = gpu.texture(
+            "a2c msaa",
+            size,
+            format,
+            samples,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
+        let resolved = gpu.texture(
+            "a2c resolved",
+            size,
+            format,
+            1,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        );
+        let (msaa_view, resolved_view) = (
+            msaa.create_view(&Default::default()),
+            resolved.create_view(&Default::default()),
+        );
+        let full = RectBatch::new(gpu, size, &[(Rect::full(size.0, size.1), [1.0; 4])]);
+        let steps = gpu
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("alpha ramp steps"),
+                contents: bytemuck::cast_slice(&[ALPHA_STEPS as f32, 0.0, 0.0, 0.0]),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+        // masks[pixel] accumulates one bit per sample.
+        let mut masks = vec![0u32; (size.0 * size.1) as usize];
+        for sample in 0..samples {
+            let pipeline = RectPipeline {
+                colour_format: Some(format),
+                fragment: RectFragment::AlphaRamp,
+                samples,
+                sample_mask: 1 << sample,
+                alpha_to_coverage: true,
+                ..RectPipeline::new("alpha ramp, one sample")
+            }
+            .create(gpu);
+            let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("alpha ramp"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: steps.as_entire_binding(),
+                }],
+            });
+            let mut encoder = gpu.encoder("alpha ramp");
+            {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("alpha ramp"),
+                    color_attachments: &[colour(
+                        &msaa_view,
+                        Some(&resolved_view),
+                        wgpu::Color::TRANSPARENT,
+                    )],
+                    ..Default::default()
+                });
+                pass.set_pipeline(&pipeline);
+                pass.set_bind_group(0, &bind_group, &[]);
+                full.draw(&mut pass, ..);
+            }
+            gpu.queue.submit([encoder.finish()]);
+            for (mask, pixel) in masks.iter_mut().zip(read_rgba8(gpu, &resolved)?.pixels()) {
+                if pixel[0] > 0 {
+                    *mask |= 1 << sample;
+                }
+            }
+        }
+        Ok(summarise(samples, size, &masks))
+    })
+}
+
+fn summarise(samples: u32, (width, rows): (u32, u32), masks: &[u32]) -> AlphaToCoverage {
+    let mask_at = |step: u32, row: u32| masks[(row * width + step) as usize];
+    let mut mean_covered = Vec::new();
+    let mut levels = BTreeSet::new();
+    let mut seen_masks = Vec::new();
+    let mut thresholds: Vec<(u32, u32)> = Vec::new();
+    let mut dithered = false;
+    let mut monotonic = true;
+    for step in 0..width {
+        let mut total = 0;
+        for row in 0..rows {
+            let mask = mask_at(step, row);
+            let covered = mask.count_ones();
+            total += covered;
+            levels.insert(covered);
+            if !seen_masks.contains(&mask) {
+                seen_masks.push(mask);
+            }
+            if !thresholds.iter().any(|&(c, _)| c == covered) {
+                thresholds.push((covered, step));
+            }
+            dithered |= mask != mask_at(step, 0);
+            if step > 0 && covered < mask_at(step - 1, row).count_ones() {
+                monotonic = false;
+            }
+        }
+        mean_covered.push(total as f32 / rows as f32);
+    }
+    AlphaToCoverage {
+        samples,
+        mean_covered,
+        levels: levels.into_iter().collect(),
+        monotonic,
+        dithered,
+        masks: seen_masks,
+        thresholds,
+    }
+}

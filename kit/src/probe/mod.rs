@@ -1,0 +1,6 @@
+//! Tiny renders that measure what an adapter really does; [`crate::caps::Caps`] collects them and
+//! the `kit.*` cases compare them with what the standards say.
+
+pub mod alpha_to_coverage;
+pub mod occlusion;
+pub mod sample_positions;

@@ -1,0 +1,154 @@
+//! Texture and buffer read-back without compute passes: copies of copyable formats and aspects
+//! (colour, `Depth32Float`, the stencil aspect of `Depth24PlusStencil8`) into a mappable buffer.
+
+use std::time::Duration;
+
+use anyhow::{Context, Result, anyhow, bail};
+
+use crate::gpu::Gpu;
+
+/// How long a read-back may wait for the GPU before it is reported as hung.
+pub const READBACK_TIMEOUT: Duration = Duration::from_secs(120);
+
+/// Maps a `MAP_READ` buffer after the work that fills it has been submitted, waiting at most
+/// [`READBACK_TIMEOUT`].
+pub fn map_buffer(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>> {
+    let (sender, receiver) = std::sync::mpsc::channel();
+    buffer.map_async(wgpu::MapMode::Read, .., move |result| {
+        // The receiver only disappears when the wait below has already given up.
+        let _ = sender.send(result);
+    });
+    gpu.device
+        .poll(wgpu::PollType::Wait {
+            submission_index: None,
+            timeout: Some(READBACK_TIMEOUT),
+        })
+        .map_err(|e| {
+            anyhow!(
+                "GPU did not finish within {READBACK_TIMEOUT:?} while reading back {buffer:?}: {e}"
+            )
+        })?;
+    receiver
+        .recv_timeout(READBACK_TIMEOUT)
+        .map_err(|_| anyhow!("buffer map callback never ran within {READBACK_TIMEOUT:?}"))?
+        .map_err(|e| anyhow!("mapping a read-back buffer failed: {e}"))?;
+    let bytes = buffer
+        .get_mapped_range(..)
+        .map_err(|e| anyhow!("reading a mapped buffer: {e}"))?
+        .to_vec();
+    buffer.unmap();
+    Ok(bytes)
+}
+
+/// Tightly packed texels of one mip level and aspect.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texels {
+    pub width: u32,
+    pub height: u32,
+    pub bytes_per_texel: u32,
+    pub bytes: Vec<u8>,
+}
+
+impl Texels {
+    pub fn texel(&self, x: u32, y: u32) -> &[u8] {
+        let start = ((y * self.width + x) * self.bytes_per_texel) as usize;
+        &self.bytes[start..start + self.bytes_per_texel as usize]
+    }
+
+    /// Interprets the texels as little-endian `f32` components (`R32Float`, `Depth32Float`, ...).
+    pub fn as_f32(&self) -> Vec<f32> {
+        self.bytes
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect()
+    }
+
+    /// Interprets the texels as `f16` components (`Rgba16Float`, ...).
+    pub fn as_f16(&self) -> Vec<f32> {
+        self.bytes
+            .chunks_exact(2)
+            .map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32())
+            .collect()
+    }
+}
+
+/// Copies one mip level and aspect of a single-sampled texture to the CPU.
+pub fn read_texture(
+    gpu: &Gpu,
+    texture: &wgpu::Texture,
+    aspect: wgpu::TextureAspect,
+    mip_level: u32,
+) -> Result<Texels> {
+    if texture.sample_count() != 1 {
+        bail!("{texture:?} is multisampled; resolve it or read it through a fragment pass");
+    }
+    let format = texture.format();
+    let bytes_per_texel = format
+        .block_copy_size(Some(aspect))
+        .with_context(|| format!("{format:?} aspect {aspect:?} cannot be copied to a buffer"))?;
+    let width = (texture.width() >> mip_level).max(1);
+    let height = (texture.height() >> mip_level).max(1);
+    let unpadded_row = width * bytes_per_texel;
+    let padded_row = unpadded_row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+        * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("read-back buffer"),
+        size: u64::from(padded_row) * u64::from(height),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("read-back"),
+        });
+    encoder.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level,
+            origin: wgpu::Origin3d::ZERO,
+            aspect,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded_row),
+                rows_per_image: None,
+            },
+        },
+        wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+    );
+    gpu.queue.submit([encoder.finish()]);
+    let padded = map_buffer(gpu, &buffer)
+        .with_context(|| format!("reading back {texture:?} mip {mip_level}"))?;
+    let mut bytes = Vec::with_capacity((unpadded_row * height) as usize);
+    for row in padded.chunks_exact(padded_row as usize) {
+        bytes.extend_from_slice(&row[..unpadded_row as usize]);
+    }
+    Ok(Texels {
+        width,
+        height,
+        bytes_per_texel,
+        bytes,
+    })
+}
+
+/// Reads an `Rgba8Unorm` texture as an image.
+pub fn read_rgba8(gpu: &Gpu, texture: &wgpu::Texture) -> Result<image::RgbaImage> {
+    if texture.format() != wgpu::TextureFormat::Rgba8Unorm {
+        bail!("read_rgba8 needs Rgba8Unorm, got {:?}", texture.format());
+    }
+    let texels = read_texture(gpu, texture, wgpu::TextureAspect::All, 0)?;
+    image::RgbaImage::from_raw(texels.width, texels.height, texels.bytes)
+        .context("texel count does not match size")
+}
+
+/// Reads the stencil aspect of a single-sampled depth-stencil texture.
+pub fn read_stencil(gpu: &Gpu, texture: &wgpu::Texture, mip_level: u32) -> Result<Texels> {
+    read_texture(gpu, texture, wgpu::TextureAspect::StencilOnly, mip_level)
+}

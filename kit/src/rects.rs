@@ -1,0 +1,222 @@
+//! Pixel-space rectangles drawn as instanced quads (`shaders/kit/rect.wgsl`): the probes'
+//! stencil patterns, coverage edges and fills.
+
+use bytemuck::{Pod, Zeroable};
+use wgpu::util::DeviceExt;
+
+use crate::gpu::Gpu;
+use crate::shaders;
+
+/// A rectangle in framebuffer pixels (origin top-left, y down), half-open: [x0, x1) × [y0, y1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rect {
+    pub x0: f32,
+    pub y0: f32,
+    pub x1: f32,
+    pub y1: f32,
+}
+
+impl Rect {
+    pub fn new(x0: f32, y0: f32, x1: f32, y1: f32) -> Self {
+        Self { x0, y0, x1, y1 }
+    }
+
+    pub fn full(width: u32, height: u32) -> Self {
+        Self::new(0.0, 0.0, width as f32, height as f32)
+    }
+
+    /// Whether a point is inside under the top-left fill convention (left and top edges
+    /// included, right and bottom excluded).
+    pub fn covers(&self, x: f32, y: f32) -> bool {
+        x >= self.x0 && x < self.x1 && y >= self.y0 && y < self.y1
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct RectInstance {
+    clip: [f32; 4],
+    colour: [f32; 4],
+}
+
+/// Instances ready to draw on a target of a given size.
+pub struct RectBatch {
+    buffer: wgpu::Buffer,
+    count: u32,
+}
+
+impl RectBatch {
+    pub fn new(gpu: &Gpu, target: (u32, u32), rects: &[(Rect, [f32; 4])]) -> Self {
+        let (w, h) = (target.0 as f32, target.1 as f32);
+        let instances: Vec<RectInstance> = rects
+            .iter()
+            .map(|(r, colour)| RectInstance {
+                clip: [
+                    r.x0 / w * 2.0 - 1.0,
+                    1.0 - r.y0 / h * 2.0,
+                    r.x1 / w * 2.0 - 1.0,
+                    1.0 - r.y1 / h * 2.0,
+                ],
+                colour: *colour,
+            })
+            .collect();
+        let buffer = gpu
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("rect instances"),
+                contents: bytemuck::cast_slice(&instances),
+                usage: wgpu::BufferUsages::VERTEX,
+            });
+        Self {
+            buffer,
+            count: rects.len() as u32,
+        }
+    }
+
+    /// Draws instances `range` (all with `..`).
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, range: impl std::ops::RangeBounds<u32>) {
+        use std::ops::Bound;
+        let start = match range.start_bound() {
+            Bound::Included(&s) => s,
+            Bound::Excluded(&s) => s + 1,
+            Bound::Unbounded => 0,
+        };
+        let end = match range.end_bound() {
+            Bound::Included(&e) => e + 1,
+            Bound::Excluded(&e) => e,
+            Bound::Unbounded => self.count,
+        };
+        pass.set_vertex_buffer(0, self.buffer.slice(..));
+        pass.draw(0..6, start..end);
+    }
+}
+
+/// Which fragment stage a rect pipeline runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RectFragment {
+    /// No fragment stage: depth/stencil only.
+    None,
+    /// The instance colour.
+    InstanceColour,
+    /// `shaders/kit/sample_position.wgsl` (per-sample shading).
+    SamplePosition,
+    /// `shaders/kit/alpha_ramp.wgsl` (alpha from the column; binds a uniform at group 0).
+    AlphaRamp,
+}
+
+/// The fixed-function state of a rect pipeline.
+#[derive(Clone, Debug)]
+pub struct RectPipeline {
+    pub label: &'static str,
+    pub colour_format: Option<wgpu::TextureFormat>,
+    pub fragment: RectFragment,
+    pub depth_stencil: Option<wgpu::DepthStencilState>,
+    pub samples: u32,
+    pub sample_mask: u64,
+    pub alpha_to_coverage: bool,
+}
+
+impl RectPipeline {
+    pub fn new(label: &'static str) -> Self {
+        Self {
+            label,
+            colour_format: None,
+            fragment: RectFragment::None,
+            depth_stencil: None,
+            samples: 1,
+            sample_mask: !0,
+            alpha_to_coverage: false,
+        }
+    }
+
+    pub fn create(&self, gpu: &Gpu) -> wgpu::RenderPipeline {
+        let rect = shaders::RECT.module(gpu);
+        let targets = [self.colour_format.map(|format| wgpu::ColorTargetState {
+            format,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        })];
+        let fragment_file = match self.fragment {
+            RectFragment::None => None,
+            RectFragment::InstanceColour => Some((shaders::RECT, "fs_instance_colour")),
+            RectFragment::SamplePosition => Some((shaders::SAMPLE_POSITION, "fs_sample_position")),
+            RectFragment::AlphaRamp => Some((shaders::ALPHA_RAMP, "fs_alpha_ramp")),
+        };
+        let fragment = fragment_file.map(|(file, entry)| (file.module(gpu), entry));
+        gpu.device
+            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(self.label),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module: &rect,
+                    entry_point: Some("vs_rect"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: std::mem::size_of::<RectInstance>() as u64,
+                        step_mode: wgpu::VertexStepMode::Instance,
+                        attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4],
+                    })],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: self.depth_stencil.clone(),
+                multisample: wgpu::MultisampleState {
+                    count: self.samples,
+                    mask: self.sample_mask,
+                    alpha_to_coverage_enabled: self.alpha_to_coverage,
+                },
+                fragment: fragment
+                    .as_ref()
+                    .map(|(module, entry)| wgpu::FragmentState {
+                        module,
+                        entry_point: Some(entry),
+                        compilation_options: Default::default(),
+                        targets: &targets,
+                    }),
+                multiview_mask: None,
+                cache: None,
+            })
+    }
+}
+
+/// Stencil state that writes `reference` wherever a draw lands (compare Always, op Replace).
+pub fn stencil_replace(format: wgpu::TextureFormat) -> wgpu::DepthStencilState {
+    stencil_state(
+        format,
+        wgpu::CompareFunction::Always,
+        wgpu::StencilOperation::Replace,
+    )
+}
+
+/// Stencil state that passes where the stencil equals `reference` and writes nothing.
+pub fn stencil_equal(format: wgpu::TextureFormat) -> wgpu::DepthStencilState {
+    stencil_state(
+        format,
+        wgpu::CompareFunction::Equal,
+        wgpu::StencilOperation::Keep,
+    )
+}
+
+pub fn stencil_state(
+    format: wgpu::TextureFormat,
+    compare: wgpu::CompareFunction,
+    pass_op: wgpu::StencilOperation,
+) -> wgpu::DepthStencilState {
+    let face = wgpu::StencilFaceState {
+        compare,
+        fail_op: wgpu::StencilOperation::Keep,
+        depth_fail_op: wgpu::StencilOperation::Keep,
+        pass_op,
+    };
+    wgpu::DepthStencilState {
+        format,
+        depth_write_enabled: Some(false),
+        depth_compare: Some(wgpu::CompareFunction::Always),
+        stencil: wgpu::StencilState {
+            front: face,
+            back: face,
+            read_mask: 0xff,
+            write_mask: 0xff,
+        },
+        bias: Default::default(),
+    }
+}

@@ -1,0 +1,3 @@
+//! Deterministic scene inputs: everything random is drawn from a seeded hash shared with WGSL.
+
+pub mod hash;

@@ -1,0 +1,60 @@
+//! The WGSL sources under `shaders/`. WGSL has no includes, so every pass file is compiled with
+//! the common snippets prepended; `tests/shaders.rs` validates each assembled module with naga.
+
+use crate::gpu::Gpu;
+
+/// Helper functions every pass may call (no bindings, no entry points).
+pub const COMMON: &[(&str, &str)] = &[
+    (
+        "common/fullscreen.wgsl",
+        include_str!("../../shaders/common/fullscreen.wgsl"),
+    ),
+    (
+        "common/hash.wgsl",
+        include_str!("../../shaders/common/hash.wgsl"),
+    ),
+];
+
+/// One pass's shader file, named by its path under `shaders/`.
+#[derive(Clone, Copy, Debug)]
+pub struct ShaderFile {
+    pub path: &'static str,
+    pub source: &'static str,
+}
+
+macro_rules! shader_files {
+    ($($name:ident => $path:literal),* $(,)?) => {
+        $(pub const $name: ShaderFile = ShaderFile { path: $path, source: include_str!(concat!("../../shaders/", $path)) };)*
+        /// Every pass file the kit compiles.
+        pub const ALL: &[ShaderFile] = &[$($name),*];
+    };
+}
+
+shader_files! {
+    RECT => "kit/rect.wgsl",
+    SAMPLE_POSITION => "kit/sample_position.wgsl",
+    ALPHA_RAMP => "kit/alpha_ramp.wgsl",
+    HEAVY_SHADING => "kit/heavy_shading.wgsl",
+    FRAGMENT_COUNTER => "kit/fragment_counter.wgsl",
+    NOISE_TRIANGLES => "kit/noise_triangles.wgsl",
+}
+
+impl ShaderFile {
+    /// The module source as compiled: common snippets, then the pass.
+    pub fn assembled(&self) -> String {
+        let mut source = String::new();
+        for (path, common) in COMMON {
+            source.push_str(&format!("// ---- {path}\n{common}\n"));
+        }
+        source.push_str(&format!("// ---- {}\n{}", self.path, self.source));
+        source
+    }
+
+    pub fn module(&self, gpu: &Gpu) -> wgpu::ShaderModule {
+        gpu.device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(self.path),
+                source: wgpu::ShaderSource::Wgsl(self.assembled().into()),
+            })
+    }
+}
