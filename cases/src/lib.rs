@@ -11,6 +11,7 @@ pub const ALL: &[Case] = &[
     kit::msaa_sample_positions::CASE_2X,
     kit::msaa_sample_positions::CASE_4X,
     kit::msaa_sample_positions::CASE_8X,
+    kit::sample_mask::CASE,
     kit::occlusion_exact::CASE,
     kit::scissor_msaa::CASE,
     kit::early_rejection::CASE,

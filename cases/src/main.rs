@@ -13,11 +13,7 @@ use fragkit::harness::report::Report;
 use fragkit::harness::runner::{check_overrides, run_case, select};
 
 #[derive(Parser)]
-#[command(
-    name = "fragkit",
-    version,
-    about = "Deterministic, compute-free GPU conformance kit"
-)]
+#[command(name = "fragkit", version, about = "Deterministic, compute-free GPU conformance kit")]
 struct Cli {
     /// Backend: vulkan, gl, metal, dx12.
     #[arg(long, global = true, env = "WGPU_BACKEND")]
@@ -72,10 +68,7 @@ fn main() -> ExitCode {
 }
 
 fn run(cli: Cli) -> Result<ExitCode> {
-    let selector = AdapterSelector {
-        backend: cli.backend,
-        adapter_name: cli.adapter,
-    };
+    let selector = AdapterSelector { backend: cli.backend, adapter_name: cli.adapter };
     match cli.command {
         Command::Adapters => {
             let adapters = all_adapters();
@@ -86,10 +79,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             }
             for adapter in adapters {
                 let d = AdapterDescription::of(&adapter.get_info());
-                println!(
-                    "{:<8} {:<40} {} ({}) [{}]",
-                    d.backend, d.name, d.driver, d.driver_info, d.device_type
-                );
+                println!("{:<8} {:<40} {} ({}) [{}]", d.backend, d.name, d.driver, d.driver_info, d.device_type);
             }
         }
         Command::Caps { json } => {
@@ -98,31 +88,21 @@ fn run(cli: Cli) -> Result<ExitCode> {
             print_caps(&caps);
             if let Some(path) = json {
                 let text = serde_json::to_string_pretty(&caps)?;
-                std::fs::write(&path, text)
-                    .with_context(|| format!("writing {}", path.display()))?;
+                std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
             }
         }
         Command::List { pattern } => {
             let patterns: Vec<String> = pattern.into_iter().collect();
             for case in select(fragkit_cases::ALL, &patterns)? {
-                let requires = if case.requires.is_empty() {
-                    String::new()
-                } else {
-                    format!(" [requires {:?}]", case.requires)
-                };
+                let requires =
+                    if case.requires.is_empty() { String::new() } else { format!(" [requires {:?}]", case.requires) };
                 println!("{}{requires}\n    {}", case.name, case.summary);
                 for p in case.params {
                     println!("    --set {}={}   ({})", p.name, p.default, p.help);
                 }
             }
         }
-        Command::Check {
-            patterns,
-            sets,
-            json,
-            out,
-            expectations,
-        } => {
+        Command::Check { patterns, sets, json, out, expectations } => {
             return check(&selector, &patterns, &sets, json, out, expectations);
         }
     }
@@ -146,41 +126,24 @@ fn check(
         None => Expectations::parse(BUILT_IN, "cases/expectations.toml (built in)")?,
     };
     if let Some(dir) = &out {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("creating the evidence folder {}", dir.display()))?;
+        std::fs::create_dir_all(dir).with_context(|| format!("creating the evidence folder {}", dir.display()))?;
     }
     if let Some(path) = &json {
         // Fail now, not after the run, when the report cannot be written.
         let probe = path.with_extension("json.tmp");
-        std::fs::write(&probe, b"")
-            .with_context(|| format!("the report path {} is not writable", path.display()))?;
+        std::fs::write(&probe, b"").with_context(|| format!("the report path {} is not writable", path.display()))?;
         std::fs::remove_file(&probe).ok();
     }
     let gpu = Gpu::open(selector)?;
     let d = &gpu.description;
-    println!(
-        "adapter: {} ({}, {} {})",
-        d.name, d.backend, d.driver, d.driver_info
-    );
+    println!("adapter: {} ({}, {} {})", d.name, d.backend, d.driver, d.driver_info);
 
     let progress = indicatif::ProgressBar::new(cases.len() as u64);
-    progress.set_style(
-        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
-            .expect("static template"),
-    );
-    let mut report = Report {
-        adapter: gpu.description.clone(),
-        cases: Vec::new(),
-    };
+    progress.set_style(indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").expect("static template"));
+    let mut report = Report { adapter: gpu.description.clone(), cases: Vec::new() };
     for case in cases {
         progress.set_message(case.name);
-        report.cases.push(run_case(
-            &gpu,
-            case,
-            &overrides,
-            &expectations,
-            out.as_deref(),
-        ));
+        report.cases.push(run_case(&gpu, case, &overrides, &expectations, out.as_deref()));
         progress.inc(1);
     }
     progress.finish_and_clear();
@@ -189,30 +152,14 @@ fn check(
         report.write_atomically(path)?;
     }
     let failures = report.failures();
-    println!(
-        "{} cases: {} unexpected failures",
-        report.cases.len(),
-        failures
-    );
-    Ok(if failures == 0 {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(1)
-    })
+    println!("{} cases: {} unexpected failures", report.cases.len(), failures);
+    Ok(if failures == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
 /// The most telling metric of a case, shown in the table.
 fn key_metric(metrics: &std::collections::BTreeMap<String, serde_json::Value>) -> String {
-    const KEYS: &[&str] = &[
-        "positions",
-        "time_ratio",
-        "differing_pixels",
-        "4x.pixels_differing",
-        "precision",
-    ];
-    KEYS.iter()
-        .find_map(|k| metrics.get(*k).map(|v| format!("{k}={}", compact(v))))
-        .unwrap_or_default()
+    const KEYS: &[&str] = &["positions", "time_ratio", "differing_pixels", "4x.pixels_differing", "precision"];
+    KEYS.iter().find_map(|k| metrics.get(*k).map(|v| format!("{k}={}", compact(v)))).unwrap_or_default()
 }
 
 fn compact(value: &serde_json::Value) -> String {
@@ -220,20 +167,13 @@ fn compact(value: &serde_json::Value) -> String {
         serde_json::Value::Number(n) => n.as_f64().map_or(n.to_string(), |f| format!("{f:.3}")),
         other => {
             let text = other.to_string();
-            if text.len() > 60 {
-                format!("{}…", &text[..60])
-            } else {
-                text
-            }
+            if text.len() > 60 { format!("{}…", &text[..60]) } else { text }
         }
     }
 }
 
 fn print_table(report: &Report) {
-    println!(
-        "{:<34} {:<15} {:>9} {:>9}  {:<40} reason",
-        "case", "outcome", "gpu ms", "wall ms", "key metric"
-    );
+    println!("{:<34} {:<15} {:>9} {:>9}  {:<40} reason", "case", "outcome", "gpu ms", "wall ms", "key metric");
     for c in &report.cases {
         let gpu_ms = c.gpu_ms.map_or("-".into(), |ms| format!("{ms:.2}"));
         println!(
@@ -250,53 +190,49 @@ fn print_table(report: &Report) {
 
 fn print_caps(caps: &Caps) {
     let d = &caps.adapter;
-    println!(
-        "adapter: {} ({}, {} {})",
-        d.name, d.backend, d.driver, d.driver_info
-    );
+    println!("adapter: {} ({}, {} {})", d.name, d.backend, d.driver, d.driver_info);
     println!("max 2D texture: {}", caps.max_texture_dimension_2d);
     for f in &caps.format_samples {
-        println!(
-            "sample counts advertised for {:<22} {:?}",
-            f.format, f.advertised
-        );
+        println!("sample counts advertised for {:<22} {:?}", f.format, f.advertised);
     }
     for m in &caps.multisample {
-        let positions = match &m.positions {
-            Ok(p) => format!("{:?}", p.iter().map(|s| s.mid()).collect::<Vec<_>>()),
-            Err(e) => format!("measurement failed: {e}"),
-        };
-        println!(
-            "{}x: standard positions: {}; measured {positions}",
-            m.samples, m.standard_positions
-        );
+        println!("{}x: standard positions: {}", m.samples, m.standard_positions);
+        match &m.positions {
+            Ok(p) => {
+                println!("    sample mask honoured: {}", p.sample_mask_honoured);
+                for (route, result) in &p.routes {
+                    match result {
+                        Ok(positions) => {
+                            let mids: Vec<_> = positions.iter().map(|s| s.mid()).collect();
+                            println!("    positions by {route:?}: {mids:?}")
+                        }
+                        Err(e) => println!("    positions by {route:?}: failed: {e}"),
+                    }
+                }
+                for (route, why) in &p.skipped {
+                    println!("    positions by {route:?}: skipped, {why}");
+                }
+            }
+            Err(e) => println!("    positions: measurement failed: {e}"),
+        }
         match &m.per_sample_shading {
             Ok(s) => println!(
-                "    per-sample shading: sample_index {:?}, position {:?}",
-                s.sample_index, s.position
+                "    per-sample shading: {} invocations, sample_index {:?}, fract(position) {:?}",
+                s.invocations, s.sample_index, s.position
             ),
             Err(e) => println!("    per-sample shading: failed: {e}"),
         }
         match &m.alpha_to_coverage {
             Ok(a) => println!(
-                "    alpha-to-coverage: levels {:?}, monotonic {}, dithered {}, masks {:?}, thresholds (count, alpha*256) {:?}",
+                "    alpha-to-coverage: levels {:?}, monotonic {}, dithered {}, masks {:?}, first alpha step (of 256) per count {:?}",
                 a.levels, a.monotonic, a.dithered, a.masks, a.thresholds
             ),
             Err(e) => println!("    alpha-to-coverage: {e}"),
         }
     }
-    println!(
-        "real sample counts (measured): {:?}",
-        caps.real_sample_counts()
-    );
+    println!("real sample counts (measured): {:?}", caps.real_sample_counts());
     println!("occlusion queries: {:?}", caps.occlusion);
-    println!(
-        "timestamps: {} (period {} ns)",
-        caps.timestamps, caps.timestamp_period_ns
-    );
-    println!(
-        "early depth test feature: {}",
-        caps.early_depth_test_feature
-    );
+    println!("timestamps: {} (period {} ns)", caps.timestamps, caps.timestamp_period_ns);
+    println!("early depth test feature: {}", caps.early_depth_test_feature);
     println!("fragment storage writes: {}", caps.fragment_storage_writes);
 }

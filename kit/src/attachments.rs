@@ -10,27 +10,17 @@ pub fn colour<'a>(
         view,
         depth_slice: None,
         resolve_target: resolve,
-        ops: wgpu::Operations {
-            load: wgpu::LoadOp::Clear(clear),
-            store: wgpu::StoreOp::Store,
-        },
+        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store },
     })
 }
 
 /// A depth-stencil attachment whose stencil is cleared to `clear` (or loaded when `None`) and
 /// kept; depth is cleared to 1 and kept.
-pub fn stencil(
-    view: &wgpu::TextureView,
-    clear: Option<u32>,
-) -> Option<wgpu::RenderPassDepthStencilAttachment<'_>> {
+pub fn stencil(view: &wgpu::TextureView, clear: Option<u32>) -> Option<wgpu::RenderPassDepthStencilAttachment<'_>> {
     Some(wgpu::RenderPassDepthStencilAttachment {
         view,
         depth_ops: Some(wgpu::Operations {
-            load: if clear.is_some() {
-                wgpu::LoadOp::Clear(1.0)
-            } else {
-                wgpu::LoadOp::Load
-            },
+            load: if clear.is_some() { wgpu::LoadOp::Clear(1.0) } else { wgpu::LoadOp::Load },
             store: wgpu::StoreOp::Store,
         }),
         stencil_ops: Some(wgpu::Operations {

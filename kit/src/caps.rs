@@ -8,8 +8,7 @@ use crate::gpu::{AdapterDescription, Gpu};
 use crate::probe::alpha_to_coverage::{AlphaToCoverage, measure_alpha_to_coverage};
 use crate::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 use crate::probe::sample_positions::{
-    PerSampleShading, SamplePosition, measure_by_resolve, measure_per_sample_shading,
-    standard_positions,
+    PerSampleShading, PositionsMeasurement, SamplePosition, measure, measure_per_sample_shading, standard_positions,
 };
 
 /// Formats whose multisample support the report lists.
@@ -33,9 +32,9 @@ pub struct FormatSamples {
 #[derive(Clone, Debug, Serialize)]
 pub struct MultisampleMeasurement {
     pub samples: u32,
-    /// Measured positions, or the error that stopped the measurement.
-    pub positions: Result<Vec<SamplePosition>, String>,
-    /// True when every sample was found, at distinct places, matching the standard table.
+    /// The edge sweep by every route the adapter allows, or the error that stopped it.
+    pub positions: Result<PositionsMeasurement, String>,
+    /// True when the routes agree and every sample lies at its standard position.
     pub standard_positions: bool,
     pub per_sample_shading: Result<PerSampleShading, String>,
     pub alpha_to_coverage: Result<AlphaToCoverage, String>,
@@ -59,21 +58,11 @@ pub struct Caps {
 /// Sample counts the adapter claims for `format`.
 pub fn advertised_sample_counts(gpu: &Gpu, format: wgpu::TextureFormat) -> Vec<u32> {
     let claimed = if gpu.has(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) {
-        gpu.adapter
-            .get_texture_format_features(format)
-            .flags
-            .supported_sample_counts()
+        gpu.adapter.get_texture_format_features(format).flags.supported_sample_counts()
     } else {
-        format
-            .guaranteed_format_features(gpu.device.features())
-            .flags
-            .supported_sample_counts()
+        format.guaranteed_format_features(gpu.device.features()).flags.supported_sample_counts()
     };
-    SAMPLE_COUNTS
-        .iter()
-        .copied()
-        .filter(|n| claimed.contains(n))
-        .collect()
+    SAMPLE_COUNTS.iter().copied().filter(|n| claimed.contains(n)).collect()
 }
 
 /// Sample counts that every probed format claims.
@@ -81,11 +70,7 @@ pub fn common_sample_counts(gpu: &Gpu) -> Vec<u32> {
     SAMPLE_COUNTS
         .iter()
         .copied()
-        .filter(|&n| {
-            PROBED_FORMATS
-                .iter()
-                .all(|&f| advertised_sample_counts(gpu, f).contains(&n))
-        })
+        .filter(|&n| PROBED_FORMATS.iter().all(|&f| advertised_sample_counts(gpu, f).contains(&n)))
         .collect()
 }
 
@@ -107,18 +92,25 @@ impl Caps {
         let multisample = common_counts
             .iter()
             .map(|&samples| {
-                let positions = measure_by_resolve(gpu, samples).map_err(|e| format!("{e:#}"));
+                let positions = measure(gpu, samples).map_err(|e| format!("{e:#}"));
+                let mask_honoured = positions.as_ref().is_ok_and(|p| p.sample_mask_honoured);
                 let standard_positions = positions
                     .as_ref()
-                    .is_ok_and(|p| matches_standard(samples, p));
+                    .ok()
+                    .and_then(PositionsMeasurement::agreed)
+                    .is_some_and(|p| matches_standard(samples, p));
                 MultisampleMeasurement {
                     samples,
                     positions,
                     standard_positions,
-                    per_sample_shading: measure_per_sample_shading(gpu, samples)
-                        .map_err(|e| format!("{e:#}")),
+                    per_sample_shading: measure_per_sample_shading(gpu, samples).map_err(|e| format!("{e:#}")),
                     alpha_to_coverage: if samples > 1 {
-                        measure_alpha_to_coverage(gpu, samples).map_err(|e| format!("{e:#}"))
+                        measure_alpha_to_coverage(
+                            gpu,
+                            samples,
+                            mask_honoured,
+                        )
+                        .map_err(|e| format!("{e:#}"))
                     } else {
                         Err("alpha-to-coverage needs more than one sample".into())
                     },
@@ -132,10 +124,7 @@ impl Caps {
             max_texture_dimension_2d: limits.max_texture_dimension_2d,
             format_samples: PROBED_FORMATS
                 .iter()
-                .map(|&f| FormatSamples {
-                    format: format!("{f:?}"),
-                    advertised: advertised_sample_counts(gpu, f),
-                })
+                .map(|&f| FormatSamples { format: format!("{f:?}"), advertised: advertised_sample_counts(gpu, f) })
                 .collect(),
             advertised_sample_counts: common_counts,
             multisample,
@@ -143,19 +132,13 @@ impl Caps {
             timestamps: gpu.has(wgpu::Features::TIMESTAMP_QUERY),
             timestamp_period_ns: gpu.queue.get_timestamp_period(),
             early_depth_test_feature: gpu.has(wgpu::Features::SHADER_EARLY_DEPTH_TEST),
-            fragment_storage_writes: downlevel
-                .flags
-                .contains(wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE)
+            fragment_storage_writes: downlevel.flags.contains(wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE)
                 && limits.max_storage_buffers_per_shader_stage > 0,
         })
     }
 
     /// Sample counts where a real N-sample target rendered N samples at the standard positions.
     pub fn real_sample_counts(&self) -> Vec<u32> {
-        self.multisample
-            .iter()
-            .filter(|m| m.standard_positions)
-            .map(|m| m.samples)
-            .collect()
+        self.multisample.iter().filter(|m| m.standard_positions).map(|m| m.samples).collect()
     }
 }

@@ -1,8 +1,12 @@
 //! The headless GPU context: pick an adapter by backend and name, open a device with only the
 //! features that adapter has, and keep its description for reports.
 
+use std::sync::Mutex;
+
 use anyhow::{Context, Result, anyhow, bail};
 use serde::Serialize;
+
+use crate::query::EncoderClock;
 
 /// Which adapter to open. `None` fields fall back to `WGPU_BACKEND` / `WGPU_ADAPTER_NAME`,
 /// the variables wgpu's own utilities honour, then to wgpu's default choice.
@@ -56,6 +60,28 @@ pub struct Gpu {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub description: AdapterDescription,
+    /// Times every encoder from [`Gpu::encoder`] to [`Gpu::submit`]; None without timestamps
+    /// outside passes.
+    clock: Option<Mutex<EncoderClock>>,
+}
+
+/// A command encoder whose GPU time counts towards the running case.
+pub struct Encoder {
+    inner: wgpu::CommandEncoder,
+    clock_pair: Option<u32>,
+}
+
+impl std::ops::Deref for Encoder {
+    type Target = wgpu::CommandEncoder;
+    fn deref(&self) -> &wgpu::CommandEncoder {
+        &self.inner
+    }
+}
+
+impl std::ops::DerefMut for Encoder {
+    fn deref_mut(&mut self) -> &mut wgpu::CommandEncoder {
+        &mut self.inner
+    }
 }
 
 const NO_ADAPTER_HELP: &str = "no GPU adapter found. Install a Vulkan driver; on Debian/Ubuntu without a GPU, \
@@ -80,33 +106,20 @@ fn instance(backends: wgpu::Backends) -> wgpu::Instance {
 
 impl AdapterSelector {
     fn backends(&self) -> Result<wgpu::Backends> {
-        match self
-            .backend
-            .clone()
-            .or_else(|| std::env::var("WGPU_BACKEND").ok())
-        {
-            Some(name) => {
-                parse_backend(&name).context("choosing the backend (--backend / WGPU_BACKEND)")
-            }
-            None => Ok(wgpu::Backends::VULKAN
-                | wgpu::Backends::GL
-                | wgpu::Backends::METAL
-                | wgpu::Backends::DX12),
+        match self.backend.clone().or_else(|| std::env::var("WGPU_BACKEND").ok()) {
+            Some(name) => parse_backend(&name).context("choosing the backend (--backend / WGPU_BACKEND)"),
+            None => Ok(wgpu::Backends::VULKAN | wgpu::Backends::GL | wgpu::Backends::METAL | wgpu::Backends::DX12),
         }
     }
 
     fn name_filter(&self) -> Option<String> {
-        self.adapter_name
-            .clone()
-            .or_else(|| std::env::var("WGPU_ADAPTER_NAME").ok())
-            .filter(|name| !name.is_empty())
+        self.adapter_name.clone().or_else(|| std::env::var("WGPU_ADAPTER_NAME").ok()).filter(|name| !name.is_empty())
     }
 }
 
 /// Every adapter on every backend this build supports.
 pub fn all_adapters() -> Vec<wgpu::Adapter> {
-    let backends =
-        wgpu::Backends::VULKAN | wgpu::Backends::GL | wgpu::Backends::METAL | wgpu::Backends::DX12;
+    let backends = wgpu::Backends::VULKAN | wgpu::Backends::GL | wgpu::Backends::METAL | wgpu::Backends::DX12;
     pollster::block_on(instance(backends).enumerate_adapters(backends))
 }
 
@@ -122,14 +135,10 @@ pub fn select_adapter(selector: &AdapterSelector) -> Result<wgpu::Adapter> {
         Some(filter) => {
             let needle = filter.to_lowercase();
             let names: Vec<String> = candidates.iter().map(|a| a.get_info().name).collect();
-            let found: Vec<wgpu::Adapter> = candidates
-                .into_iter()
-                .filter(|a| a.get_info().name.to_lowercase().contains(&needle))
-                .collect();
+            let found: Vec<wgpu::Adapter> =
+                candidates.into_iter().filter(|a| a.get_info().name.to_lowercase().contains(&needle)).collect();
             if found.is_empty() {
-                bail!(
-                    "no adapter name contains {filter:?} (--adapter / WGPU_ADAPTER_NAME); adapters found: {names:?}"
-                );
+                bail!("no adapter name contains {filter:?} (--adapter / WGPU_ADAPTER_NAME); adapters found: {names:?}");
             }
             found
         }
@@ -138,10 +147,7 @@ pub fn select_adapter(selector: &AdapterSelector) -> Result<wgpu::Adapter> {
     // Prefer real hardware, then Vulkan over GL: the order wgpu's own default follows.
     matching.sort_by_key(|a| {
         let info = a.get_info();
-        let hardware = !matches!(
-            info.device_type,
-            wgpu::DeviceType::Cpu | wgpu::DeviceType::Other
-        );
+        let hardware = !matches!(info.device_type, wgpu::DeviceType::Cpu | wgpu::DeviceType::Other);
         let vulkan = info.backend == wgpu::Backend::Vulkan;
         (!hardware, !vulkan)
     });
@@ -150,11 +156,10 @@ pub fn select_adapter(selector: &AdapterSelector) -> Result<wgpu::Adapter> {
 
 /// The optional features the kit uses when an adapter offers them; a case that needs a missing
 /// one reports NotSupported.
-pub const WANTED_FEATURES: wgpu::Features =
-    wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
-        .union(wgpu::Features::TIMESTAMP_QUERY)
-        .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
-        .union(wgpu::Features::SHADER_EARLY_DEPTH_TEST);
+pub const WANTED_FEATURES: wgpu::Features = wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
+    .union(wgpu::Features::TIMESTAMP_QUERY)
+    .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
+    .union(wgpu::Features::SHADER_EARLY_DEPTH_TEST);
 
 impl Gpu {
     /// Opens the adapter a selector names.
@@ -175,15 +180,12 @@ impl Gpu {
         .with_context(|| format!("opening a device on {} ({})", info.name, info.backend))?;
         // Errors outside a case's error scope must not abort the process: log them, the
         // harness captures the ones that matter per case.
-        device.on_uncaptured_error(std::sync::Arc::new(|error| {
-            log::error!("uncaptured wgpu error: {error}")
-        }));
-        Ok(Self {
-            description: AdapterDescription::of(&info),
-            adapter,
-            device,
-            queue,
-        })
+        device.on_uncaptured_error(std::sync::Arc::new(|error| log::error!("uncaptured wgpu error: {error}")));
+        let clock = device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
+            .then(|| Mutex::new(EncoderClock::new(&device, &queue)));
+        Ok(Self { description: AdapterDescription::of(&info), adapter, device, queue, clock })
     }
 
     pub fn has(&self, features: wgpu::Features) -> bool {
@@ -225,11 +227,7 @@ impl Gpu {
     ) -> wgpu::Texture {
         self.device.create_texture(&wgpu::TextureDescriptor {
             label: Some(label),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
             mip_level_count: 1,
             sample_count: samples,
             dimension: wgpu::TextureDimension::D2,
@@ -239,8 +237,27 @@ impl Gpu {
         })
     }
 
-    pub fn encoder(&self, label: &str) -> wgpu::CommandEncoder {
-        self.device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) })
+    /// A command encoder whose GPU time counts towards the running case (submit it with
+    /// [`Gpu::submit`]).
+    pub fn encoder(&self, label: &str) -> Encoder {
+        let mut inner = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
+        let clock_pair = self.clock.as_ref().and_then(|clock| clock.lock().expect("clock lock").start(&mut inner));
+        Encoder { inner, clock_pair }
+    }
+
+    /// Submits an encoder made by [`Gpu::encoder`], closing its clock span.
+    pub fn submit(&self, mut encoder: Encoder) -> wgpu::SubmissionIndex {
+        if let (Some(clock), Some(pair)) = (&self.clock, encoder.clock_pair) {
+            clock.lock().expect("clock lock").stop(&mut encoder.inner, pair);
+        }
+        self.queue.submit([encoder.inner.finish()])
+    }
+
+    /// GPU time (ms) of the encoders submitted since the last call; None without timestamps.
+    pub fn take_gpu_ms(&self) -> Result<Option<f64>> {
+        match &self.clock {
+            Some(clock) => Ok(Some(clock.lock().expect("clock lock").take_ms(self)?)),
+            None => Ok(None),
+        }
     }
 }

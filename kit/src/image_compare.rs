@@ -15,11 +15,7 @@ pub struct ImageDifference {
 }
 
 /// Compares two equally sized images; `tolerance` is in 8-bit steps per channel.
-pub fn compare(
-    result: &RgbaImage,
-    reference: &RgbaImage,
-    tolerance: u8,
-) -> Result<(ImageDifference, RgbaImage)> {
+pub fn compare(result: &RgbaImage, reference: &RgbaImage, tolerance: u8) -> Result<(ImageDifference, RgbaImage)> {
     ensure!(
         result.dimensions() == reference.dimensions(),
         "cannot compare a {:?} result with a {:?} reference",
@@ -28,15 +24,9 @@ pub fn compare(
     );
     let mut mask = RgbaImage::new(result.width(), result.height());
     let (mut differing, mut max, mut squared) = (0u64, 0u8, 0f64);
-    for ((a, b), m) in result
-        .pixels()
-        .zip(reference.pixels())
-        .zip(mask.pixels_mut())
-    {
+    for ((a, b), m) in result.pixels().zip(reference.pixels()).zip(mask.pixels_mut()) {
         let worst = (0..4).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0);
-        squared += (0..3)
-            .map(|c| f64::from(a[c].abs_diff(b[c])).powi(2))
-            .sum::<f64>();
+        squared += (0..3).map(|c| f64::from(a[c].abs_diff(b[c])).powi(2)).sum::<f64>();
         max = max.max(worst);
         *m = if worst > tolerance {
             differing += 1;
@@ -46,19 +36,8 @@ pub fn compare(
         };
     }
     let mse = squared / (3.0 * f64::from(result.width() * result.height()).max(1.0));
-    let psnr_db = if mse == 0.0 {
-        f64::INFINITY
-    } else {
-        10.0 * (255.0f64.powi(2) / mse).log10()
-    };
-    Ok((
-        ImageDifference {
-            differing_pixels: differing,
-            max_channel_difference: max,
-            psnr_db,
-        },
-        mask,
-    ))
+    let psnr_db = if mse == 0.0 { f64::INFINITY } else { 10.0 * (255.0f64.powi(2) / mse).log10() };
+    Ok((ImageDifference { differing_pixels: differing, max_channel_difference: max, psnr_db }, mask))
 }
 
 /// Result, reference and error mask side by side, as VK-GL-CTS writes them.

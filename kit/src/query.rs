@@ -15,22 +15,18 @@ struct ResolvedQueries {
 }
 
 impl ResolvedQueries {
-    fn new(gpu: &Gpu, ty: wgpu::QueryType, count: u32, label: &str) -> Self {
+    fn new(device: &wgpu::Device, ty: wgpu::QueryType, count: u32, label: &str) -> Self {
         let size = u64::from(count.max(1)) * 8;
         Self {
-            set: gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some(label),
-                ty,
-                count: count.max(1),
-            }),
+            set: device.create_query_set(&wgpu::QuerySetDescriptor { label: Some(label), ty, count: count.max(1) }),
             count,
-            resolve: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            resolve: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size,
                 usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             }),
-            readback: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            readback: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size,
                 usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
@@ -51,11 +47,7 @@ impl ResolvedQueries {
             return Ok(Vec::new());
         }
         let bytes = map_buffer(gpu, &self.readback)?;
-        Ok(bytes
-            .chunks_exact(8)
-            .take(used as usize)
-            .map(|c| u64::from_le_bytes(c.try_into().unwrap()))
-            .collect())
+        Ok(bytes.chunks_exact(8).take(used as usize).map(|c| u64::from_le_bytes(c.try_into().unwrap())).collect())
     }
 }
 
@@ -64,12 +56,7 @@ pub struct OcclusionQueries(ResolvedQueries);
 
 impl OcclusionQueries {
     pub fn new(gpu: &Gpu, count: u32) -> Self {
-        Self(ResolvedQueries::new(
-            gpu,
-            wgpu::QueryType::Occlusion,
-            count,
-            "occlusion queries",
-        ))
+        Self(ResolvedQueries::new(&gpu.device, wgpu::QueryType::Occlusion, count, "occlusion queries"))
     }
 
     pub fn set(&self) -> &wgpu::QuerySet {
@@ -83,9 +70,7 @@ impl OcclusionQueries {
 
     /// Reads the results after the encoder holding [`Self::resolve`] was submitted.
     pub fn read(&self, gpu: &Gpu) -> Result<Vec<u64>> {
-        self.0
-            .read(gpu, self.0.count)
-            .context("reading occlusion query results")
+        self.0.read(gpu, self.0.count).context("reading occlusion query results")
     }
 }
 
@@ -106,19 +91,10 @@ pub struct PassTime {
 impl GpuTimer {
     /// A timer for up to `passes` passes; inert (every pass untimed) without `TIMESTAMP_QUERY`.
     pub fn new(gpu: &Gpu, passes: u32) -> Self {
-        let queries = gpu.has(wgpu::Features::TIMESTAMP_QUERY).then(|| {
-            ResolvedQueries::new(
-                gpu,
-                wgpu::QueryType::Timestamp,
-                passes * 2,
-                "pass timestamps",
-            )
-        });
-        Self {
-            queries,
-            labels: Vec::new(),
-            period_ns: f64::from(gpu.queue.get_timestamp_period()),
-        }
+        let queries = gpu
+            .has(wgpu::Features::TIMESTAMP_QUERY)
+            .then(|| ResolvedQueries::new(&gpu.device, wgpu::QueryType::Timestamp, passes * 2, "pass timestamps"));
+        Self { queries, labels: Vec::new(), period_ns: f64::from(gpu.queue.get_timestamp_period()) }
     }
 
     pub fn is_active(&self) -> bool {
@@ -154,18 +130,66 @@ impl GpuTimer {
         let Some(queries) = &self.queries else {
             return Ok(Vec::new());
         };
-        let stamps = queries
-            .read(gpu, self.labels.len() as u32 * 2)
-            .context("reading pass timestamps")?;
+        let stamps = queries.read(gpu, self.labels.len() as u32 * 2).context("reading pass timestamps")?;
         let times = self
             .labels
             .drain(..)
             .zip(stamps.chunks_exact(2))
-            .map(|(label, pair)| PassTime {
-                label,
-                ms: pair[1].saturating_sub(pair[0]) as f64 * self.period_ns * 1e-6,
-            })
+            .map(|(label, pair)| PassTime { label, ms: pair[1].saturating_sub(pair[0]) as f64 * self.period_ns * 1e-6 })
             .collect();
         Ok(times)
+    }
+}
+
+/// GPU time of every command encoder made with [`Gpu::encoder`] and submitted with
+/// [`Gpu::submit`]: a timestamp at each encoder's start and end, outside any pass.
+pub(crate) struct EncoderClock {
+    queries: ResolvedQueries,
+    used_pairs: u32,
+    period_ns: f64,
+}
+
+/// Encoders one clock can time between two reads; later ones go untimed (and are logged).
+const CLOCK_PAIRS: u32 = 1024;
+
+impl EncoderClock {
+    pub(crate) fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        Self {
+            queries: ResolvedQueries::new(device, wgpu::QueryType::Timestamp, CLOCK_PAIRS * 2, "encoder clock"),
+            used_pairs: 0,
+            period_ns: f64::from(queue.get_timestamp_period()),
+        }
+    }
+
+    /// Writes the start stamp; returns the pair's index, or None when the clock is full.
+    pub(crate) fn start(&mut self, encoder: &mut wgpu::CommandEncoder) -> Option<u32> {
+        if self.used_pairs == CLOCK_PAIRS {
+            log::warn!("encoder clock full: further encoders of this case are not timed");
+            return None;
+        }
+        self.used_pairs += 1;
+        let pair = self.used_pairs - 1;
+        encoder.write_timestamp(&self.queries.set, pair * 2);
+        Some(pair)
+    }
+
+    pub(crate) fn stop(&self, encoder: &mut wgpu::CommandEncoder, pair: u32) {
+        encoder.write_timestamp(&self.queries.set, pair * 2 + 1);
+    }
+
+    /// Sums every started pair's span in ms and resets the clock. Pairs whose encoder was
+    /// never submitted read as zero and add nothing.
+    pub(crate) fn take_ms(&mut self, gpu: &Gpu) -> Result<f64> {
+        let used = std::mem::take(&mut self.used_pairs) * 2;
+        if used == 0 {
+            return Ok(0.0);
+        }
+        let mut encoder =
+            gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("encoder clock") });
+        self.queries.resolve(&mut encoder, used);
+        gpu.queue.submit([encoder.finish()]);
+        let stamps = self.queries.read(gpu, used).context("reading the encoder clock")?;
+        let ns: u64 = stamps.chunks_exact(2).map(|pair| pair[1].saturating_sub(pair[0])).sum();
+        Ok(ns as f64 * self.period_ns * 1e-6)
     }
 }

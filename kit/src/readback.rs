@@ -19,23 +19,13 @@ pub fn map_buffer(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>> {
         let _ = sender.send(result);
     });
     gpu.device
-        .poll(wgpu::PollType::Wait {
-            submission_index: None,
-            timeout: Some(READBACK_TIMEOUT),
-        })
-        .map_err(|e| {
-            anyhow!(
-                "GPU did not finish within {READBACK_TIMEOUT:?} while reading back {buffer:?}: {e}"
-            )
-        })?;
+        .poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(READBACK_TIMEOUT) })
+        .map_err(|e| anyhow!("GPU did not finish within {READBACK_TIMEOUT:?} while reading back {buffer:?}: {e}"))?;
     receiver
         .recv_timeout(READBACK_TIMEOUT)
         .map_err(|_| anyhow!("buffer map callback never ran within {READBACK_TIMEOUT:?}"))?
         .map_err(|e| anyhow!("mapping a read-back buffer failed: {e}"))?;
-    let bytes = buffer
-        .get_mapped_range(..)
-        .map_err(|e| anyhow!("reading a mapped buffer: {e}"))?
-        .to_vec();
+    let bytes = buffer.get_mapped_range(..).map_err(|e| anyhow!("reading a mapped buffer: {e}"))?.to_vec();
     buffer.unmap();
     Ok(bytes)
 }
@@ -57,28 +47,17 @@ impl Texels {
 
     /// Interprets the texels as little-endian `f32` components (`R32Float`, `Depth32Float`, ...).
     pub fn as_f32(&self) -> Vec<f32> {
-        self.bytes
-            .chunks_exact(4)
-            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-            .collect()
+        self.bytes.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect()
     }
 
     /// Interprets the texels as `f16` components (`Rgba16Float`, ...).
     pub fn as_f16(&self) -> Vec<f32> {
-        self.bytes
-            .chunks_exact(2)
-            .map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32())
-            .collect()
+        self.bytes.chunks_exact(2).map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32()).collect()
     }
 }
 
 /// Copies one mip level and aspect of a single-sampled texture to the CPU.
-pub fn read_texture(
-    gpu: &Gpu,
-    texture: &wgpu::Texture,
-    aspect: wgpu::TextureAspect,
-    mip_level: u32,
-) -> Result<Texels> {
+pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, aspect: wgpu::TextureAspect, mip_level: u32) -> Result<Texels> {
     if texture.sample_count() != 1 {
         bail!("{texture:?} is multisampled; resolve it or read it through a fragment pass");
     }
@@ -89,53 +68,29 @@ pub fn read_texture(
     let width = (texture.width() >> mip_level).max(1);
     let height = (texture.height() >> mip_level).max(1);
     let unpadded_row = width * bytes_per_texel;
-    let padded_row = unpadded_row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-        * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let padded_row = unpadded_row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("read-back buffer"),
         size: u64::from(padded_row) * u64::from(height),
         usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         mapped_at_creation: false,
     });
-    let mut encoder = gpu
-        .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("read-back"),
-        });
+    let mut encoder = gpu.encoder("read-back");
     encoder.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level,
-            origin: wgpu::Origin3d::ZERO,
-            aspect,
-        },
+        wgpu::TexelCopyTextureInfo { texture, mip_level, origin: wgpu::Origin3d::ZERO, aspect },
         wgpu::TexelCopyBufferInfo {
             buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(padded_row),
-                rows_per_image: None,
-            },
+            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded_row), rows_per_image: None },
         },
-        wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
+        wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
     );
-    gpu.queue.submit([encoder.finish()]);
-    let padded = map_buffer(gpu, &buffer)
-        .with_context(|| format!("reading back {texture:?} mip {mip_level}"))?;
+    gpu.submit(encoder);
+    let padded = map_buffer(gpu, &buffer).with_context(|| format!("reading back {texture:?} mip {mip_level}"))?;
     let mut bytes = Vec::with_capacity((unpadded_row * height) as usize);
     for row in padded.chunks_exact(padded_row as usize) {
         bytes.extend_from_slice(&row[..unpadded_row as usize]);
     }
-    Ok(Texels {
-        width,
-        height,
-        bytes_per_texel,
-        bytes,
-    })
+    Ok(Texels { width, height, bytes_per_texel, bytes })
 }
 
 /// Reads an `Rgba8Unorm` texture as an image.
@@ -144,8 +99,7 @@ pub fn read_rgba8(gpu: &Gpu, texture: &wgpu::Texture) -> Result<image::RgbaImage
         bail!("read_rgba8 needs Rgba8Unorm, got {:?}", texture.format());
     }
     let texels = read_texture(gpu, texture, wgpu::TextureAspect::All, 0)?;
-    image::RgbaImage::from_raw(texels.width, texels.height, texels.bytes)
-        .context("texel count does not match size")
+    image::RgbaImage::from_raw(texels.width, texels.height, texels.bytes).context("texel count does not match size")
 }
 
 /// Reads the stencil aspect of a single-sampled depth-stencil texture.

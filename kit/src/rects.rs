@@ -51,26 +51,16 @@ impl RectBatch {
         let instances: Vec<RectInstance> = rects
             .iter()
             .map(|(r, colour)| RectInstance {
-                clip: [
-                    r.x0 / w * 2.0 - 1.0,
-                    1.0 - r.y0 / h * 2.0,
-                    r.x1 / w * 2.0 - 1.0,
-                    1.0 - r.y1 / h * 2.0,
-                ],
+                clip: [r.x0 / w * 2.0 - 1.0, 1.0 - r.y0 / h * 2.0, r.x1 / w * 2.0 - 1.0, 1.0 - r.y1 / h * 2.0],
                 colour: *colour,
             })
             .collect();
-        let buffer = gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("rect instances"),
-                contents: bytemuck::cast_slice(&instances),
-                usage: wgpu::BufferUsages::VERTEX,
-            });
-        Self {
-            buffer,
-            count: rects.len() as u32,
-        }
+        let buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("rect instances"),
+            contents: bytemuck::cast_slice(&instances),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        Self { buffer, count: rects.len() as u32 }
     }
 
     /// Draws instances `range` (all with `..`).
@@ -98,8 +88,10 @@ pub enum RectFragment {
     None,
     /// The instance colour.
     InstanceColour,
-    /// `shaders/kit/sample_position.wgsl` (per-sample shading).
+    /// `shaders/kit/sample_position.wgsl` (per-sample shading; storage at group 0).
     SamplePosition,
+    /// `shaders/kit/sample_coverage_record.wgsl` (per-sample coverage; uniform + storage at group 0).
+    SampleCoverageRecord,
     /// `shaders/kit/alpha_ramp.wgsl` (alpha from the column; binds a uniform at group 0).
     AlphaRamp,
 }
@@ -131,69 +123,56 @@ impl RectPipeline {
 
     pub fn create(&self, gpu: &Gpu) -> wgpu::RenderPipeline {
         let rect = shaders::RECT.module(gpu);
-        let targets = [self.colour_format.map(|format| wgpu::ColorTargetState {
-            format,
-            blend: None,
-            write_mask: wgpu::ColorWrites::ALL,
-        })];
+        let targets: Vec<Option<wgpu::ColorTargetState>> =
+            self.colour_format.map(|format| Some(format.into())).into_iter().collect();
         let fragment_file = match self.fragment {
             RectFragment::None => None,
             RectFragment::InstanceColour => Some((shaders::RECT, "fs_instance_colour")),
             RectFragment::SamplePosition => Some((shaders::SAMPLE_POSITION, "fs_sample_position")),
+            RectFragment::SampleCoverageRecord => Some((shaders::SAMPLE_COVERAGE_RECORD, "fs_record_sample")),
             RectFragment::AlphaRamp => Some((shaders::ALPHA_RAMP, "fs_alpha_ramp")),
         };
         let fragment = fragment_file.map(|(file, entry)| (file.module(gpu), entry));
-        gpu.device
-            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(self.label),
-                layout: None,
-                vertex: wgpu::VertexState {
-                    module: &rect,
-                    entry_point: Some("vs_rect"),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(wgpu::VertexBufferLayout {
-                        array_stride: std::mem::size_of::<RectInstance>() as u64,
-                        step_mode: wgpu::VertexStepMode::Instance,
-                        attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4],
-                    })],
-                },
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: self.depth_stencil.clone(),
-                multisample: wgpu::MultisampleState {
-                    count: self.samples,
-                    mask: self.sample_mask,
-                    alpha_to_coverage_enabled: self.alpha_to_coverage,
-                },
-                fragment: fragment
-                    .as_ref()
-                    .map(|(module, entry)| wgpu::FragmentState {
-                        module,
-                        entry_point: Some(entry),
-                        compilation_options: Default::default(),
-                        targets: &targets,
-                    }),
-                multiview_mask: None,
-                cache: None,
-            })
+        gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(self.label),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &rect,
+                entry_point: Some("vs_rect"),
+                compilation_options: Default::default(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<RectInstance>() as u64,
+                    step_mode: wgpu::VertexStepMode::Instance,
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4],
+                })],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: self.depth_stencil.clone(),
+            multisample: wgpu::MultisampleState {
+                count: self.samples,
+                mask: self.sample_mask,
+                alpha_to_coverage_enabled: self.alpha_to_coverage,
+            },
+            fragment: fragment.as_ref().map(|(module, entry)| wgpu::FragmentState {
+                module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                targets: &targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
     }
 }
 
 /// Stencil state that writes `reference` wherever a draw lands (compare Always, op Replace).
 pub fn stencil_replace(format: wgpu::TextureFormat) -> wgpu::DepthStencilState {
-    stencil_state(
-        format,
-        wgpu::CompareFunction::Always,
-        wgpu::StencilOperation::Replace,
-    )
+    stencil_state(format, wgpu::CompareFunction::Always, wgpu::StencilOperation::Replace)
 }
 
 /// Stencil state that passes where the stencil equals `reference` and writes nothing.
 pub fn stencil_equal(format: wgpu::TextureFormat) -> wgpu::DepthStencilState {
-    stencil_state(
-        format,
-        wgpu::CompareFunction::Equal,
-        wgpu::StencilOperation::Keep,
-    )
+    stencil_state(format, wgpu::CompareFunction::Equal, wgpu::StencilOperation::Keep)
 }
 
 pub fn stencil_state(
@@ -211,12 +190,7 @@ pub fn stencil_state(
         format,
         depth_write_enabled: Some(false),
         depth_compare: Some(wgpu::CompareFunction::Always),
-        stencil: wgpu::StencilState {
-            front: face,
-            back: face,
-            read_mask: 0xff,
-            write_mask: 0xff,
-        },
+        stencil: wgpu::StencilState { front: face, back: face, read_mask: 0xff, write_mask: 0xff },
         bias: Default::default(),
     }
 }

@@ -5,14 +5,8 @@ use crate::gpu::Gpu;
 
 /// Helper functions every pass may call (no bindings, no entry points).
 pub const COMMON: &[(&str, &str)] = &[
-    (
-        "common/fullscreen.wgsl",
-        include_str!("../../shaders/common/fullscreen.wgsl"),
-    ),
-    (
-        "common/hash.wgsl",
-        include_str!("../../shaders/common/hash.wgsl"),
-    ),
+    ("common/fullscreen.wgsl", include_str!("../../shaders/common/fullscreen.wgsl")),
+    ("common/hash.wgsl", include_str!("../../shaders/common/hash.wgsl")),
 ];
 
 /// One pass's shader file, named by its path under `shaders/`.
@@ -33,6 +27,7 @@ macro_rules! shader_files {
 shader_files! {
     RECT => "kit/rect.wgsl",
     SAMPLE_POSITION => "kit/sample_position.wgsl",
+    SAMPLE_COVERAGE_RECORD => "kit/sample_coverage_record.wgsl",
     ALPHA_RAMP => "kit/alpha_ramp.wgsl",
     HEAVY_SHADING => "kit/heavy_shading.wgsl",
     FRAGMENT_COUNTER => "kit/fragment_counter.wgsl",
@@ -51,10 +46,9 @@ impl ShaderFile {
     }
 
     pub fn module(&self, gpu: &Gpu) -> wgpu::ShaderModule {
-        gpu.device
-            .create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(self.path),
-                source: wgpu::ShaderSource::Wgsl(self.assembled().into()),
-            })
+        gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(self.path),
+            source: wgpu::ShaderSource::Wgsl(self.assembled().into()),
+        })
     }
 }

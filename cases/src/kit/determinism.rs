@@ -7,7 +7,6 @@ use fragkit::attachments;
 use fragkit::gpu::Gpu;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
 use fragkit::image_compare::{compare, side_by_side};
-use fragkit::query::GpuTimer;
 use fragkit::readback::read_rgba8;
 use fragkit::scene::hash::SeededRng;
 use fragkit::shaders;
@@ -18,24 +17,9 @@ pub const CASE: Case = Case {
     summary: "a seeded scene rendered twice from scratch reads back bit-identical",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec {
-            name: "size",
-            kind: ParamKind::Sizes,
-            default: "96x64",
-            help: "target size",
-        },
-        ParamSpec {
-            name: "triangles",
-            kind: ParamKind::Count,
-            default: "48",
-            help: "triangles in the scene",
-        },
-        ParamSpec {
-            name: "seed",
-            kind: ParamKind::Count,
-            default: "7",
-            help: "scene and noise seed",
-        },
+        ParamSpec { name: "size", kind: ParamKind::Sizes, default: "96x64", help: "target size" },
+        ParamSpec { name: "triangles", kind: ParamKind::Count, default: "48", help: "triangles in the scene" },
+        ParamSpec { name: "seed", kind: ParamKind::Count, default: "7", help: "scene and noise seed" },
     ],
     run,
 };
@@ -59,11 +43,7 @@ fn scene(triangles: u64, seed: u32) -> Vec<Vertex> {
             let shade = [rng.unit(), 0.25 + 0.75 * rng.unit(), rng.unit()];
             let centre = [rng.unit() * 2.4 - 1.2, rng.unit() * 2.4 - 1.2];
             let corner = move |rng: &mut SeededRng| Vertex {
-                position: [
-                    centre[0] + rng.unit() * 0.8 - 0.4,
-                    centre[1] + rng.unit() * 0.8 - 0.4,
-                    depth,
-                ],
+                position: [centre[0] + rng.unit() * 0.8 - 0.4, centre[1] + rng.unit() * 0.8 - 0.4, depth],
                 shade,
             };
             [corner(&mut rng), corner(&mut rng), corner(&mut rng)]
@@ -72,12 +52,7 @@ fn scene(triangles: u64, seed: u32) -> Vec<Vertex> {
 }
 
 /// Renders the scene with resources created from nothing.
-fn render(
-    ctx: &mut Ctx,
-    size: (u32, u32),
-    vertices: &[Vertex],
-    seed: u32,
-) -> Result<image::RgbaImage> {
+fn render(ctx: &mut Ctx, size: (u32, u32), vertices: &[Vertex], seed: u32) -> Result<image::RgbaImage> {
     let gpu: &Gpu = ctx.gpu;
     let format = wgpu::TextureFormat::Rgba8Unorm;
     let colour = gpu.texture(
@@ -94,74 +69,60 @@ fn render(
         1,
         wgpu::TextureUsages::RENDER_ATTACHMENT,
     );
-    let (colour_view, depth_view) = (
-        colour.create_view(&Default::default()),
-        depth.create_view(&Default::default()),
-    );
+    let (colour_view, depth_view) = (colour.create_view(&Default::default()), depth.create_view(&Default::default()));
     let module = shaders::NOISE_TRIANGLES.module(gpu);
-    let pipeline = gpu
-        .device
-        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("noise triangles"),
-            layout: None,
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_triangle"),
-                compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: std::mem::size_of::<Vertex>() as u64,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
-                })],
-            },
-            primitive: Default::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: wgpu::TextureFormat::Depth24PlusStencil8,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_noise"),
-                compilation_options: Default::default(),
-                targets: &[Some(format.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-    let vertex_buffer = gpu
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("scene vertices"),
-            contents: bytemuck::cast_slice(vertices),
-            usage: wgpu::BufferUsages::VERTEX,
-        });
-    let seed_buffer = gpu
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("noise seed"),
-            contents: bytemuck::cast_slice(&[seed, 0, 0, 0]),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
+    let pipeline = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("noise triangles"),
+        layout: None,
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_triangle"),
+            compilation_options: Default::default(),
+            buffers: &[Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<Vertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
+            })],
+        },
+        primitive: Default::default(),
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: wgpu::TextureFormat::Depth24PlusStencil8,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::LessEqual),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs_noise"),
+            compilation_options: Default::default(),
+            targets: &[Some(format.into())],
+        }),
+        multiview_mask: None,
+        cache: None,
+    });
+    let vertex_buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("scene vertices"),
+        contents: bytemuck::cast_slice(vertices),
+        usage: wgpu::BufferUsages::VERTEX,
+    });
+    let seed_buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("noise seed"),
+        contents: bytemuck::cast_slice(&[seed, 0, 0, 0]),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
     let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("noise seed"),
         layout: &pipeline.get_bind_group_layout(0),
-        entries: &[wgpu::BindGroupEntry {
-            binding: 0,
-            resource: seed_buffer.as_entire_binding(),
-        }],
+        entries: &[wgpu::BindGroupEntry { binding: 0, resource: seed_buffer.as_entire_binding() }],
     });
-    let mut timer = GpuTimer::new(gpu, 1);
     let mut encoder = gpu.encoder("determinism");
     {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("noise triangles"),
             color_attachments: &[attachments::colour(&colour_view, None, wgpu::Color::BLACK)],
             depth_stencil_attachment: attachments::stencil(&depth_view, Some(0)),
-            timestamp_writes: timer.pass("noise triangles"),
             ..Default::default()
         });
         pass.set_pipeline(&pipeline);
@@ -169,9 +130,7 @@ fn render(
         pass.set_vertex_buffer(0, vertex_buffer.slice(..));
         pass.draw(0..vertices.len() as u32, 0..1);
     }
-    timer.resolve(&mut encoder);
-    gpu.queue.submit([encoder.finish()]);
-    ctx.gpu_time(&timer.read(gpu)?);
+    gpu.submit(encoder);
     read_rgba8(gpu, &colour)
 }
 
@@ -182,23 +141,13 @@ const SNAP_MARGIN: f32 = 1.0 / 64.0;
 /// rasteriser's fixed-point snapping may decide either way.
 fn cpu_coverage(size: (u32, u32), vertices: &[Vertex], x: u32, y: u32) -> Option<bool> {
     let p = [x as f32 + 0.5, y as f32 + 0.5];
-    let to_pixels = |v: &Vertex| {
-        [
-            (v.position[0] + 1.0) * 0.5 * size.0 as f32,
-            (1.0 - v.position[1]) * 0.5 * size.1 as f32,
-        ]
-    };
+    let to_pixels =
+        |v: &Vertex| [(v.position[0] + 1.0) * 0.5 * size.0 as f32, (1.0 - v.position[1]) * 0.5 * size.1 as f32];
     let mut covered = false;
     for triangle in vertices.chunks_exact(3) {
-        let [a, b, c] = [
-            to_pixels(&triangle[0]),
-            to_pixels(&triangle[1]),
-            to_pixels(&triangle[2]),
-        ];
+        let [a, b, c] = [to_pixels(&triangle[0]), to_pixels(&triangle[1]), to_pixels(&triangle[2])];
         let edge = |u: [f32; 2], v: [f32; 2]| {
-            let length = ((v[0] - u[0]).powi(2) + (v[1] - u[1]).powi(2))
-                .sqrt()
-                .max(1e-12);
+            let length = ((v[0] - u[0]).powi(2) + (v[1] - u[1]).powi(2)).sqrt().max(1e-12);
             ((v[0] - u[0]) * (p[1] - u[1]) - (v[1] - u[1]) * (p[0] - u[0])) / length
         };
         let distances = [edge(a, b), edge(b, c), edge(c, a)];

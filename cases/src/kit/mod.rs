@@ -4,4 +4,5 @@ pub mod determinism;
 pub mod early_rejection;
 pub mod msaa_sample_positions;
 pub mod occlusion_exact;
+pub mod sample_mask;
 pub mod scissor_msaa;

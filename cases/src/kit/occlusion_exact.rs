@@ -7,8 +7,8 @@ use fragkit::attachments;
 use fragkit::caps::common_sample_counts;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
-use fragkit::probe::sample_positions::measure_by_resolve;
-use fragkit::query::{GpuTimer, OcclusionQueries};
+use fragkit::probe::sample_positions::measure;
+use fragkit::query::OcclusionQueries;
 use fragkit::rects::{Rect, RectBatch, RectPipeline, stencil_equal, stencil_replace};
 use fragkit::scene::hash::SeededRng;
 
@@ -17,30 +17,10 @@ pub const CASE: Case = Case {
     summary: "occlusion queries count exactly the pixels (1x) and samples (4x) that pass a stencil-Equal test",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec {
-            name: "sizes",
-            kind: ParamKind::Sizes,
-            default: "1x1,7x5,64x64,257x131",
-            help: "target sizes",
-        },
-        ParamSpec {
-            name: "sample_counts",
-            kind: ParamKind::Counts,
-            default: "1,4",
-            help: "sample counts to test",
-        },
-        ParamSpec {
-            name: "rects",
-            kind: ParamKind::Count,
-            default: "24",
-            help: "stencil rects per pattern",
-        },
-        ParamSpec {
-            name: "seed",
-            kind: ParamKind::Count,
-            default: "1",
-            help: "pattern seed",
-        },
+        ParamSpec { name: "sizes", kind: ParamKind::Sizes, default: "1x1,7x5,64x64,257x131", help: "target sizes" },
+        ParamSpec { name: "sample_counts", kind: ParamKind::Counts, default: "1,4", help: "sample counts to test" },
+        ParamSpec { name: "rects", kind: ParamKind::Count, default: "24", help: "stencil rects per pattern" },
+        ParamSpec { name: "seed", kind: ParamKind::Count, default: "1", help: "pattern seed" },
     ],
     run,
 };
@@ -53,17 +33,12 @@ const VALUES: u32 = 4;
 /// and the fill convention's tie rule never decides a count.
 fn pattern(size: (u32, u32), count: u64, seed: u32) -> Vec<(Rect, u32)> {
     let mut rng = SeededRng::new(seed ^ (size.0 << 16) ^ size.1);
-    let coordinate = |rng: &mut SeededRng, extent: u32| {
-        rng.range(0, 2 * extent + 8) as f32 * 0.5 - 2.0 + 1.0 / 32.0
-    };
+    let coordinate = |rng: &mut SeededRng, extent: u32| rng.range(0, 2 * extent + 8) as f32 * 0.5 - 2.0 + 1.0 / 32.0;
     (0..count)
         .map(|_| {
             let (xa, xb) = (coordinate(&mut rng, size.0), coordinate(&mut rng, size.0));
             let (ya, yb) = (coordinate(&mut rng, size.1), coordinate(&mut rng, size.1));
-            (
-                Rect::new(xa.min(xb), ya.min(yb), xa.max(xb), ya.max(yb)),
-                rng.range(1, VALUES),
-            )
+            (Rect::new(xa.min(xb), ya.min(yb), xa.max(xb), ya.max(yb)), rng.range(1, VALUES))
         })
         .collect()
 }
@@ -75,11 +50,7 @@ fn expected_counts(size: (u32, u32), positions: &[[f32; 2]], pattern: &[(Rect, u
         for x in 0..size.0 {
             for [sx, sy] in positions {
                 let (px, py) = (x as f32 + sx, y as f32 + sy);
-                let value = pattern
-                    .iter()
-                    .rev()
-                    .find(|(r, _)| r.covers(px, py))
-                    .map_or(0, |&(_, v)| v);
+                let value = pattern.iter().rev().find(|(r, _)| r.covers(px, py)).map_or(0, |&(_, v)| v);
                 counts[value as usize] += 1;
             }
         }
@@ -88,46 +59,27 @@ fn expected_counts(size: (u32, u32), positions: &[[f32; 2]], pattern: &[(Rect, u
 }
 
 /// GPU result: the pattern drawn into the stencil, then one counted Equal draw per value.
-fn measured_counts(
-    ctx: &mut Ctx,
-    size: (u32, u32),
-    samples: u32,
-    pattern: &[(Rect, u32)],
-) -> Result<Vec<u64>> {
+fn measured_counts(ctx: &mut Ctx, size: (u32, u32), samples: u32, pattern: &[(Rect, u32)]) -> Result<Vec<u64>> {
     let gpu = ctx.gpu;
     let format = wgpu::TextureFormat::Depth24PlusStencil8;
-    let stencil = gpu.texture(
-        "occlusion stencil",
-        size,
-        format,
-        samples,
-        wgpu::TextureUsages::RENDER_ATTACHMENT,
-    );
+    let stencil = gpu.texture("occlusion stencil", size, format, samples, wgpu::TextureUsages::RENDER_ATTACHMENT);
     let view = stencil.create_view(&Default::default());
     let rects: Vec<(Rect, [f32; 4])> = pattern.iter().map(|&(r, _)| (r, [1.0; 4])).collect();
     let rects = RectBatch::new(gpu, size, &rects);
     let full = RectBatch::new(gpu, size, &[(Rect::full(size.0, size.1), [1.0; 4])]);
-    let mark = RectPipeline {
-        depth_stencil: Some(stencil_replace(format)),
-        samples,
-        ..RectPipeline::new("stencil pattern")
-    }
-    .create(gpu);
-    let count = RectPipeline {
-        depth_stencil: Some(stencil_equal(format)),
-        samples,
-        ..RectPipeline::new("counted Equal draw")
-    }
-    .create(gpu);
+    let mark =
+        RectPipeline { depth_stencil: Some(stencil_replace(format)), samples, ..RectPipeline::new("stencil pattern") }
+            .create(gpu);
+    let count =
+        RectPipeline { depth_stencil: Some(stencil_equal(format)), samples, ..RectPipeline::new("counted Equal draw") }
+            .create(gpu);
     let queries = OcclusionQueries::new(gpu, VALUES);
-    let mut timer = GpuTimer::new(gpu, 1);
     let mut encoder = gpu.encoder("occlusion exactness");
     {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("stencil pattern and counts"),
             depth_stencil_attachment: attachments::stencil(&view, Some(0)),
             occlusion_query_set: Some(queries.set()),
-            timestamp_writes: timer.pass("stencil pattern and counts"),
             ..Default::default()
         });
         pass.set_pipeline(&mark);
@@ -144,10 +96,8 @@ fn measured_counts(
         }
     }
     queries.resolve(&mut encoder);
-    timer.resolve(&mut encoder);
-    gpu.queue.submit([encoder.finish()]);
+    gpu.submit(encoder);
     let counts = queries.read(gpu)?;
-    ctx.gpu_time(&timer.read(gpu)?);
     Ok(counts)
 }
 
@@ -168,12 +118,11 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         }
         // Expectations use the sample positions this adapter really has (kit.msaa.sample_positions
         // judges those against the standard).
-        let positions: Vec<[f32; 2]> = measure_by_resolve(ctx.gpu, samples)?
+        let positions: Vec<[f32; 2]> = measure(ctx.gpu, samples)?
+            .agreed()
+            .context("the sample positions could not be measured consistently; see kit.msaa.sample_positions")?
             .iter()
-            .map(|p| {
-                p.mid()
-                    .context("a sample was never covered; see kit.msaa.sample_positions")
-            })
+            .map(|p| p.mid().context("a sample was never covered; see kit.msaa.sample_positions"))
             .collect::<Result<_>>()?;
         for &size in &sizes {
             let pattern = pattern(size, rect_count, seed);
@@ -186,16 +135,11 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             let agree = match precision {
                 OcclusionPrecision::Exact => measured == expected,
                 // Boolean queries can only say whether anything passed.
-                _ => measured
-                    .iter()
-                    .zip(&expected)
-                    .all(|(&m, &e)| (m > 0) == (e > 0)),
+                _ => measured.iter().zip(&expected).all(|(&m, &e)| (m > 0) == (e > 0)),
             };
             if !agree {
-                mismatches.push(format!(
-                    "{samples}x {}x{}: expected {expected:?}, measured {measured:?}",
-                    size.0, size.1
-                ));
+                mismatches
+                    .push(format!("{samples}x {}x{}: expected {expected:?}, measured {measured:?}", size.0, size.1));
             }
         }
     }
@@ -203,8 +147,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         _ if !mismatches.is_empty() => Outcome::Fail(mismatches.join("; ")),
         OcclusionPrecision::Exact => Outcome::Pass,
         OcclusionPrecision::Boolean => Outcome::NotSupported(
-            "exact occlusion counts: queries return 0/1 (booleans agreed with the expected counts)"
-                .into(),
+            "exact occlusion counts: queries return 0/1 (booleans agreed with the expected counts)".into(),
         ),
         wrong => Outcome::Fail(format!("occlusion probe returned {wrong:?}")),
     })

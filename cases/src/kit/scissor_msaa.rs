@@ -8,7 +8,7 @@ use fragkit::caps::common_sample_counts;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
 use fragkit::image_compare::{compare, side_by_side};
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
-use fragkit::query::{GpuTimer, OcclusionQueries};
+use fragkit::query::OcclusionQueries;
 use fragkit::readback::read_rgba8;
 use fragkit::rects::{Rect, RectBatch, RectFragment, RectPipeline, stencil_equal, stencil_replace};
 
@@ -17,24 +17,9 @@ pub const CASE: Case = Case {
     summary: "a scissored draw under MSAA covers no sample outside the scissor rect",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec {
-            name: "size",
-            kind: ParamKind::Sizes,
-            default: "40x30",
-            help: "target size",
-        },
-        ParamSpec {
-            name: "scissor",
-            kind: ParamKind::Counts,
-            default: "8,8,20,10",
-            help: "x,y,width,height",
-        },
-        ParamSpec {
-            name: "sample_counts",
-            kind: ParamKind::Counts,
-            default: "1,4",
-            help: "sample counts to test",
-        },
+        ParamSpec { name: "size", kind: ParamKind::Sizes, default: "40x30", help: "target size" },
+        ParamSpec { name: "scissor", kind: ParamKind::Counts, default: "8,8,20,10", help: "x,y,width,height" },
+        ParamSpec { name: "sample_counts", kind: ParamKind::Counts, default: "1,4", help: "sample counts to test" },
     ],
     run,
 };
@@ -47,21 +32,10 @@ struct Scissor {
 }
 
 /// Renders white under the scissor into a cleared MSAA target and resolves it.
-fn scissored_fill(
-    ctx: &mut Ctx,
-    size: (u32, u32),
-    samples: u32,
-    s: &Scissor,
-) -> Result<image::RgbaImage> {
+fn scissored_fill(ctx: &mut Ctx, size: (u32, u32), samples: u32, s: &Scissor) -> Result<image::RgbaImage> {
     let gpu = ctx.gpu;
     let format = wgpu::TextureFormat::Rgba8Unorm;
-    let msaa = gpu.texture(
-        "scissor msaa",
-        size,
-        format,
-        samples,
-        wgpu::TextureUsages::RENDER_ATTACHMENT,
-    );
+    let msaa = gpu.texture("scissor msaa", size, format, samples, wgpu::TextureUsages::RENDER_ATTACHMENT);
     let resolved = gpu.texture(
         "scissor resolved",
         size,
@@ -69,10 +43,7 @@ fn scissored_fill(
         1,
         wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
     );
-    let (msaa_view, resolved_view) = (
-        msaa.create_view(&Default::default()),
-        resolved.create_view(&Default::default()),
-    );
+    let (msaa_view, resolved_view) = (msaa.create_view(&Default::default()), resolved.create_view(&Default::default()));
     let fill = RectPipeline {
         colour_format: Some(format),
         fragment: RectFragment::InstanceColour,
@@ -81,46 +52,27 @@ fn scissored_fill(
     }
     .create(gpu);
     let full = RectBatch::new(gpu, size, &[(Rect::full(size.0, size.1), [1.0; 4])]);
-    let mut timer = GpuTimer::new(gpu, 1);
     let mut encoder = gpu.encoder("scissored fill");
     {
-        let (view, resolve) = if samples > 1 {
-            (&msaa_view, Some(&resolved_view))
-        } else {
-            (&resolved_view, None)
-        };
+        let (view, resolve) = if samples > 1 { (&msaa_view, Some(&resolved_view)) } else { (&resolved_view, None) };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("scissored fill"),
             color_attachments: &[attachments::colour(view, resolve, wgpu::Color::BLACK)],
-            timestamp_writes: timer.pass("scissored fill"),
             ..Default::default()
         });
         pass.set_pipeline(&fill);
         pass.set_scissor_rect(s.x, s.y, s.w, s.h);
         full.draw(&mut pass, ..);
     }
-    timer.resolve(&mut encoder);
-    gpu.queue.submit([encoder.finish()]);
-    ctx.gpu_time(&timer.read(gpu)?);
+    gpu.submit(encoder);
     read_rgba8(gpu, &resolved)
 }
 
 /// Writes stencil 1 under the scissor, then counts samples equal to 1 without a scissor.
-fn scissored_stencil_count(
-    ctx: &mut Ctx,
-    size: (u32, u32),
-    samples: u32,
-    s: &Scissor,
-) -> Result<u64> {
+fn scissored_stencil_count(ctx: &mut Ctx, size: (u32, u32), samples: u32, s: &Scissor) -> Result<u64> {
     let gpu = ctx.gpu;
     let format = wgpu::TextureFormat::Depth24PlusStencil8;
-    let stencil = gpu.texture(
-        "scissor stencil",
-        size,
-        format,
-        samples,
-        wgpu::TextureUsages::RENDER_ATTACHMENT,
-    );
+    let stencil = gpu.texture("scissor stencil", size, format, samples, wgpu::TextureUsages::RENDER_ATTACHMENT);
     let view = stencil.create_view(&Default::default());
     let mark = RectPipeline {
         depth_stencil: Some(stencil_replace(format)),
@@ -128,12 +80,8 @@ fn scissored_stencil_count(
         ..RectPipeline::new("scissored stencil")
     }
     .create(gpu);
-    let count = RectPipeline {
-        depth_stencil: Some(stencil_equal(format)),
-        samples,
-        ..RectPipeline::new("count")
-    }
-    .create(gpu);
+    let count =
+        RectPipeline { depth_stencil: Some(stencil_equal(format)), samples, ..RectPipeline::new("count") }.create(gpu);
     let full = RectBatch::new(gpu, size, &[(Rect::full(size.0, size.1), [1.0; 4])]);
     let queries = OcclusionQueries::new(gpu, 1);
     let mut encoder = gpu.encoder("scissored stencil");
@@ -155,7 +103,7 @@ fn scissored_stencil_count(
         pass.end_occlusion_query();
     }
     queries.resolve(&mut encoder);
-    gpu.queue.submit([encoder.finish()]);
+    gpu.submit(encoder);
     Ok(queries.read(gpu)?[0])
 }
 
@@ -164,12 +112,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let rect = ctx.params.counts("scissor")?;
     let [x, y, w, h] = <[u64; 4]>::try_from(rect.clone())
         .map_err(|_| anyhow::anyhow!("scissor needs x,y,width,height, got {rect:?}"))?;
-    let s = Scissor {
-        x: x as u32,
-        y: y as u32,
-        w: w as u32,
-        h: h as u32,
-    };
+    let s = Scissor { x: x as u32, y: y as u32, w: w as u32, h: h as u32 };
     anyhow::ensure!(
         s.x + s.w <= size.0 && s.y + s.h <= size.1,
         "scissor {rect:?} leaves the {}x{} target",
@@ -182,11 +125,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     // Expected: white exactly inside the rect, black elsewhere, every sample (pixel-aligned rect).
     let expected = image::RgbaImage::from_fn(size.0, size.1, |px, py| {
         let inside = (s.x..s.x + s.w).contains(&px) && (s.y..s.y + s.h).contains(&py);
-        if inside {
-            image::Rgba([255; 4])
-        } else {
-            image::Rgba([0, 0, 0, 255])
-        }
+        if inside { image::Rgba([255; 4]) } else { image::Rgba([0, 0, 0, 255]) }
     });
     let mut problems = Vec::new();
     for samples in ctx.params.counts("sample_counts")? {
@@ -197,19 +136,10 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         }
         let result = scissored_fill(ctx, size, samples, &s)?;
         let (difference, mask) = compare(&result, &expected, 0)?;
-        ctx.metric(
-            &format!("{samples}x.pixels_differing"),
-            difference.differing_pixels,
-        );
+        ctx.metric(&format!("{samples}x.pixels_differing"), difference.differing_pixels);
         if difference.differing_pixels > 0 {
-            ctx.evidence_image(
-                &format!("{samples}x"),
-                &side_by_side(&result, &expected, &mask),
-            )?;
-            problems.push(format!(
-                "{samples}x: {} pixels differ from the scissor rect",
-                difference.differing_pixels
-            ));
+            ctx.evidence_image(&format!("{samples}x"), &side_by_side(&result, &expected, &mask))?;
+            problems.push(format!("{samples}x: {} pixels differ from the scissor rect", difference.differing_pixels));
         }
         if precision == OcclusionPrecision::Exact {
             let measured = scissored_stencil_count(ctx, size, samples, &s)?;
@@ -223,9 +153,5 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             }
         }
     }
-    Ok(if problems.is_empty() {
-        Outcome::Pass
-    } else {
-        Outcome::Fail(problems.join("; "))
-    })
+    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
 }

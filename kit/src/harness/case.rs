@@ -8,7 +8,6 @@ use serde::Serialize;
 
 use super::params::{ParamSpec, Params};
 use crate::gpu::Gpu;
-use crate::query::PassTime;
 
 /// What a case concluded.
 #[derive(Clone, Debug, PartialEq)]
@@ -37,41 +36,19 @@ pub struct Ctx<'a> {
     pub params: Params,
     pub(crate) case_name: &'static str,
     pub(crate) metrics: BTreeMap<String, serde_json::Value>,
-    pub(crate) gpu_ms: Option<f64>,
     pub(crate) evidence_dir: Option<PathBuf>,
     pub(crate) evidence: Vec<PathBuf>,
 }
 
 impl<'a> Ctx<'a> {
-    pub(crate) fn new(
-        gpu: &'a Gpu,
-        case_name: &'static str,
-        params: Params,
-        evidence_dir: Option<PathBuf>,
-    ) -> Self {
-        Self {
-            gpu,
-            params,
-            case_name,
-            metrics: BTreeMap::new(),
-            gpu_ms: None,
-            evidence_dir,
-            evidence: Vec::new(),
-        }
+    pub(crate) fn new(gpu: &'a Gpu, case_name: &'static str, params: Params, evidence_dir: Option<PathBuf>) -> Self {
+        Self { gpu, params, case_name, metrics: BTreeMap::new(), evidence_dir, evidence: Vec::new() }
     }
 
     /// Records a measured quantity for the report.
     pub fn metric(&mut self, name: &str, value: impl Serialize) {
-        let value = serde_json::to_value(value)
-            .unwrap_or_else(|e| serde_json::Value::String(format!("<{e}>")));
+        let value = serde_json::to_value(value).unwrap_or_else(|e| serde_json::Value::String(format!("<{e}>")));
         self.metrics.insert(name.to_owned(), value);
-    }
-
-    /// Adds timed passes to the case's GPU time.
-    pub fn gpu_time(&mut self, passes: &[PassTime]) {
-        if !passes.is_empty() {
-            *self.gpu_ms.get_or_insert(0.0) += passes.iter().map(|p| p.ms).sum::<f64>();
-        }
     }
 
     /// Writes an evidence image (when the run has an output folder) and lists it in the report.
@@ -80,9 +57,7 @@ impl<'a> Ctx<'a> {
             return Ok(());
         };
         let path = dir.join(format!("{}.{name}.png", self.case_name));
-        image
-            .save(&path)
-            .with_context(|| format!("writing evidence image {}", path.display()))?;
+        image.save(&path).with_context(|| format!("writing evidence image {}", path.display()))?;
         self.evidence.push(path);
         Ok(())
     }

@@ -36,17 +36,13 @@ pub struct Expectations {
 
 /// Patterns were checked by [`Expectations::parse`]; one that still fails to parse matches nothing.
 fn glob_matches(pattern: &str, text: &str) -> bool {
-    let options = MatchOptions {
-        case_sensitive: false,
-        ..Default::default()
-    };
+    let options = MatchOptions { case_sensitive: false, ..Default::default() };
     Pattern::new(pattern).is_ok_and(|p| p.matches_with(text, options))
 }
 
 impl Expectations {
     pub fn parse(text: &str, origin: &str) -> Result<Self> {
-        let parsed: Self =
-            toml::from_str(text).with_context(|| format!("parsing expectations file {origin}"))?;
+        let parsed: Self = toml::from_str(text).with_context(|| format!("parsing expectations file {origin}"))?;
         // Reject bad globs now rather than at the first match.
         for issue in &parsed.known_issues {
             let patterns = [
@@ -58,10 +54,7 @@ impl Expectations {
             ];
             for pattern in patterns.into_iter().flatten() {
                 Pattern::new(pattern).with_context(|| {
-                    format!(
-                        "expectations file {origin}: bad pattern {pattern:?} in the entry for {:?}",
-                        issue.case
-                    )
+                    format!("expectations file {origin}: bad pattern {pattern:?} in the entry for {:?}", issue.case)
                 })?;
             }
         }
@@ -69,24 +62,20 @@ impl Expectations {
     }
 
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("reading expectations file {}", path.display()))?;
+        let text =
+            std::fs::read_to_string(path).with_context(|| format!("reading expectations file {}", path.display()))?;
         Self::parse(&text, &path.display().to_string())
     }
 
     /// The known issue listed for this case on this adapter, if any.
     pub fn find(&self, case: &str, adapter: &AdapterDescription) -> Option<&KnownIssue> {
-        self.known_issues
-            .iter()
-            .find(|issue| issue.matches(case, adapter))
+        self.known_issues.iter().find(|issue| issue.matches(case, adapter))
     }
 }
 
 impl KnownIssue {
     fn matches(&self, case: &str, adapter: &AdapterDescription) -> bool {
-        let field = |pattern: &Option<String>, text: &str| {
-            pattern.as_deref().is_none_or(|p| glob_matches(p, text))
-        };
+        let field = |pattern: &Option<String>, text: &str| pattern.as_deref().is_none_or(|p| glob_matches(p, text));
         glob_matches(&self.case, case)
             && field(&self.backend, &adapter.backend)
             && field(&self.adapter, &adapter.name)

@@ -33,21 +33,12 @@ pub enum ParamValue {
 }
 
 fn parse_count(text: &str) -> Result<u64> {
-    text.trim()
-        .parse::<u64>()
-        .with_context(|| format!("{text:?} is not a non-negative integer"))
+    text.trim().parse::<u64>().with_context(|| format!("{text:?} is not a non-negative integer"))
 }
 
 fn parse_size(text: &str) -> Result<(u32, u32)> {
-    let (w, h) = text
-        .trim()
-        .split_once('x')
-        .with_context(|| format!("{text:?} is not a size like 64x32"))?;
-    let parse = |v: &str| {
-        v.trim()
-            .parse::<u32>()
-            .with_context(|| format!("{v:?} in size {text:?} is not an integer"))
-    };
+    let (w, h) = text.trim().split_once('x').with_context(|| format!("{text:?} is not a size like 64x32"))?;
+    let parse = |v: &str| v.trim().parse::<u32>().with_context(|| format!("{v:?} in size {text:?} is not an integer"));
     let size = (parse(w)?, parse(h)?);
     if size.0 == 0 || size.1 == 0 {
         bail!("size {text:?} is empty; both sides must be at least 1");
@@ -59,12 +50,8 @@ impl ParamKind {
     pub fn parse(self, text: &str) -> Result<ParamValue> {
         Ok(match self {
             ParamKind::Count => ParamValue::Count(parse_count(text)?),
-            ParamKind::Counts => {
-                ParamValue::Counts(text.split(',').map(parse_count).collect::<Result<_>>()?)
-            }
-            ParamKind::Sizes => {
-                ParamValue::Sizes(text.split(',').map(parse_size).collect::<Result<_>>()?)
-            }
+            ParamKind::Counts => ParamValue::Counts(text.split(',').map(parse_count).collect::<Result<_>>()?),
+            ParamKind::Sizes => ParamValue::Sizes(text.split(',').map(parse_size).collect::<Result<_>>()?),
         })
     }
 }
@@ -75,32 +62,24 @@ pub struct Params(BTreeMap<&'static str, ParamValue>);
 
 impl Params {
     /// Defaults of `specs`, with `overrides` (key → text) applied where a spec has that key.
-    pub fn resolve(
-        case: &str,
-        specs: &[ParamSpec],
-        overrides: &BTreeMap<String, String>,
-    ) -> Result<Self> {
+    pub fn resolve(case: &str, specs: &[ParamSpec], overrides: &BTreeMap<String, String>) -> Result<Self> {
         let mut values = BTreeMap::new();
         for spec in specs {
             let (text, source) = match overrides.get(spec.name) {
                 Some(text) => (text.as_str(), "--set"),
                 None => (spec.default, "the default"),
             };
-            let value = spec.kind.parse(text).with_context(|| {
-                format!(
-                    "parameter {:?} of {case} (from {source}): {}",
-                    spec.name, spec.help
-                )
-            })?;
+            let value = spec
+                .kind
+                .parse(text)
+                .with_context(|| format!("parameter {:?} of {case} (from {source}): {}", spec.name, spec.help))?;
             values.insert(spec.name, value);
         }
         Ok(Self(values))
     }
 
     fn get(&self, name: &str) -> Result<&ParamValue> {
-        self.0
-            .get(name)
-            .with_context(|| format!("case declares no parameter {name:?}"))
+        self.0.get(name).with_context(|| format!("case declares no parameter {name:?}"))
     }
 
     pub fn count(&self, name: &str) -> Result<u64> {
@@ -129,9 +108,7 @@ impl Params {
 pub fn parse_overrides(sets: &[String]) -> Result<BTreeMap<String, String>> {
     sets.iter()
         .map(|set| {
-            let (key, value) = set
-                .split_once('=')
-                .with_context(|| format!("--set {set:?}: expected key=value"))?;
+            let (key, value) = set.split_once('=').with_context(|| format!("--set {set:?}: expected key=value"))?;
             Ok((key.trim().to_owned(), value.trim().to_owned()))
         })
         .collect()

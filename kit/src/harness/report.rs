@@ -69,9 +69,7 @@ impl Report {
     pub fn write_atomically(&self, path: &Path) -> Result<()> {
         let text = serde_json::to_string_pretty(self).context("serialising the report")?;
         let temporary = path.with_extension("json.tmp");
-        std::fs::write(&temporary, text)
-            .with_context(|| format!("writing {}", temporary.display()))?;
-        std::fs::rename(&temporary, path)
-            .with_context(|| format!("moving the report into place at {}", path.display()))
+        std::fs::write(&temporary, text).with_context(|| format!("writing {}", temporary.display()))?;
+        std::fs::rename(&temporary, path).with_context(|| format!("moving the report into place at {}", path.display()))
     }
 }

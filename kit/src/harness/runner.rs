@@ -23,15 +23,11 @@ pub fn select<'c>(cases: &'c [Case], patterns: &[String]) -> Result<Vec<&'c Case
     }
     let mut selected: Vec<&Case> = Vec::new();
     for text in patterns {
-        let pattern =
-            Pattern::new(text).map_err(|e| anyhow::anyhow!("bad case pattern {text:?}: {e}"))?;
+        let pattern = Pattern::new(text).map_err(|e| anyhow::anyhow!("bad case pattern {text:?}: {e}"))?;
         let matching: Vec<&Case> = cases.iter().filter(|c| pattern.matches(c.name)).collect();
         if matching.is_empty() {
             let names: Vec<&str> = cases.iter().map(|c| c.name).collect();
-            bail!(
-                "case pattern {text:?} matches no case; cases are: {}",
-                names.join(", ")
-            );
+            bail!("case pattern {text:?} matches no case; cases are: {}", names.join(", "));
         }
         for case in matching {
             if !selected.iter().any(|c| c.name == case.name) {
@@ -45,19 +41,10 @@ pub fn select<'c>(cases: &'c [Case], patterns: &[String]) -> Result<Vec<&'c Case
 /// Checks that every `--set` key names a parameter of at least one selected case.
 pub fn check_overrides(cases: &[&Case], overrides: &BTreeMap<String, String>) -> Result<()> {
     for key in overrides.keys() {
-        let owners: Vec<&Case> = cases
-            .iter()
-            .copied()
-            .filter(|c| c.params.iter().any(|p| p.name == key))
-            .collect();
+        let owners: Vec<&Case> = cases.iter().copied().filter(|c| c.params.iter().any(|p| p.name == key)).collect();
         if owners.is_empty() {
-            let known: Vec<&str> = cases
-                .iter()
-                .flat_map(|c| c.params.iter().map(|p| p.name))
-                .collect();
-            bail!(
-                "--set {key}: no selected case has a parameter {key:?}; parameters of the selected cases: {known:?}"
-            );
+            let known: Vec<&str> = cases.iter().flat_map(|c| c.params.iter().map(|p| p.name)).collect();
+            bail!("--set {key}: no selected case has a parameter {key:?}; parameters of the selected cases: {known:?}");
         }
         for case in owners {
             Params::resolve(case.name, case.params, overrides)?;
@@ -83,6 +70,10 @@ pub fn run_case(
     evidence_dir: Option<&Path>,
 ) -> CaseRecord {
     let started = Instant::now();
+    // Start the case's GPU clock from zero, whatever ran before.
+    if let Err(e) = gpu.take_gpu_ms() {
+        log::warn!("resetting the GPU clock before {}: {e:#}", case.name);
+    }
     let (params, params_error) = match Params::resolve(case.name, case.params, overrides) {
         Ok(params) => (params, None),
         Err(e) => (Params::default(), Some(format!("{e:#}"))),
@@ -94,29 +85,25 @@ pub fn run_case(
     } else if !missing.is_empty() {
         Outcome::NotSupported(format!("adapter lacks {missing:?}"))
     } else {
-        let guarded = catch_unwind(AssertUnwindSafe(|| {
-            gpu.scoped(case.name, || (case.run)(&mut ctx))
-        }));
+        let guarded = catch_unwind(AssertUnwindSafe(|| gpu.scoped(case.name, || (case.run)(&mut ctx))));
         match guarded {
             Ok(Ok(outcome)) => outcome,
             Ok(Err(error)) => Outcome::Fail(format!("{error:#}")),
             Err(payload) => Outcome::Fail(format!("panicked: {}", panic_message(payload))),
         }
     };
+    let (gpu_ms, outcome) = match gpu.take_gpu_ms() {
+        Ok(ms) => (ms, outcome),
+        Err(e) => (None, Outcome::Fail(format!("reading the case's GPU time: {e:#}"))),
+    };
     let (outcome, reason) = match (outcome, expectations.find(case.name, &gpu.description)) {
         (Outcome::Pass, None) => (ReportedOutcome::Pass, String::new()),
         (Outcome::Pass, Some(issue)) => (
             ReportedOutcome::UnexpectedPass,
-            format!(
-                "passed, but the expectations file lists it as a known issue ({}); remove the entry",
-                issue.reason
-            ),
+            format!("passed, but the expectations file lists it as a known issue ({}); remove the entry", issue.reason),
         ),
         (Outcome::Fail(why), None) => (ReportedOutcome::Fail, why),
-        (Outcome::Fail(why), Some(issue)) => (
-            ReportedOutcome::KnownIssue,
-            format!("{why} [known: {}]", issue.reason),
-        ),
+        (Outcome::Fail(why), Some(issue)) => (ReportedOutcome::KnownIssue, format!("{why} [known: {}]", issue.reason)),
         (Outcome::NotSupported(why), _) => (ReportedOutcome::NotSupported, why),
     };
     CaseRecord {
@@ -125,7 +112,7 @@ pub fn run_case(
         reason,
         params: ctx.params,
         metrics: ctx.metrics,
-        gpu_ms: ctx.gpu_ms,
+        gpu_ms,
         wall_ms: started.elapsed().as_secs_f64() * 1e3,
         evidence: ctx.evidence,
     }

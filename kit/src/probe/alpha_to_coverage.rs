@@ -29,23 +29,20 @@ pub struct AlphaToCoverage {
     pub monotonic: bool,
     /// Pixels with the same alpha got different masks.
     pub dithered: bool,
-    /// Distinct sample masks seen, in order of first appearance as alpha grows.
+    /// Distinct sample masks seen, in order of first appearance as alpha grows; empty where the
+    /// sample mask cannot isolate samples.
     pub masks: Vec<u32>,
     /// For each covered count, the smallest alpha step that reached it.
     pub thresholds: Vec<(u32, u32)>,
 }
 
-pub fn measure_alpha_to_coverage(gpu: &Gpu, samples: u32) -> Result<AlphaToCoverage> {
+/// Counts come from one resolve; per-sample masks only where `sample_mask_honoured` (each
+/// sample is then isolated by the pipeline mask).
+pub fn measure_alpha_to_coverage(gpu: &Gpu, samples: u32, sample_mask_honoured: bool) -> Result<AlphaToCoverage> {
     gpu.scoped(&format!("{samples}x alpha-to-coverage probe"), || {
         let size = (ALPHA_STEPS + 1, ROWS);
         let format = wgpu::TextureFormat::Rgba8Unorm;
-        let msaa = gpu.texture(
-            "a2c msaa",
-            size,
-            format,
-            samples,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        );
+        let msaa = gpu.texture("a2c msaa", size, format, samples, wgpu::TextureUsages::RENDER_ATTACHMENT);
         let resolved = gpu.texture(
             "a2c resolved",
             size,
@@ -53,66 +50,66 @@ pub fn measure_alpha_to_coverage(gpu: &Gpu, samples: u32) -> Result<AlphaToCover
             1,
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         );
-        let (msaa_view, resolved_view) = (
-            msaa.create_view(&Default::default()),
-            resolved.create_view(&Default::default()),
-        );
+        let (msaa_view, resolved_view) =
+            (msaa.create_view(&Default::default()), resolved.create_view(&Default::default()));
         let full = RectBatch::new(gpu, size, &[(Rect::full(size.0, size.1), [1.0; 4])]);
-        let steps = gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("alpha ramp steps"),
-                contents: bytemuck::cast_slice(&[ALPHA_STEPS as f32, 0.0, 0.0, 0.0]),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
-        // masks[pixel] accumulates one bit per sample.
-        let mut masks = vec![0u32; (size.0 * size.1) as usize];
-        for sample in 0..samples {
+        let steps = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("alpha ramp steps"),
+            contents: bytemuck::cast_slice(&[ALPHA_STEPS as f32, 0.0, 0.0, 0.0]),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let ramp = |sample_mask: u64| -> Result<image::RgbaImage> {
             let pipeline = RectPipeline {
                 colour_format: Some(format),
                 fragment: RectFragment::AlphaRamp,
                 samples,
-                sample_mask: 1 << sample,
+                sample_mask,
                 alpha_to_coverage: true,
-                ..RectPipeline::new("alpha ramp, one sample")
+                ..RectPipeline::new("alpha ramp")
             }
             .create(gpu);
             let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("alpha ramp"),
                 layout: &pipeline.get_bind_group_layout(0),
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: steps.as_entire_binding(),
-                }],
+                entries: &[wgpu::BindGroupEntry { binding: 0, resource: steps.as_entire_binding() }],
             });
             let mut encoder = gpu.encoder("alpha ramp");
             {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("alpha ramp"),
-                    color_attachments: &[colour(
-                        &msaa_view,
-                        Some(&resolved_view),
-                        wgpu::Color::TRANSPARENT,
-                    )],
+                    color_attachments: &[colour(&msaa_view, Some(&resolved_view), wgpu::Color::TRANSPARENT)],
                     ..Default::default()
                 });
                 pass.set_pipeline(&pipeline);
                 pass.set_bind_group(0, &bind_group, &[]);
                 full.draw(&mut pass, ..);
             }
-            gpu.queue.submit([encoder.finish()]);
-            for (mask, pixel) in masks.iter_mut().zip(read_rgba8(gpu, &resolved)?.pixels()) {
-                if pixel[0] > 0 {
-                    *mask |= 1 << sample;
+            gpu.submit(encoder);
+            read_rgba8(gpu, &resolved)
+        };
+        // Counts from one resolve: white over N samples resolves to 255 · covered / N.
+        let counts: Vec<u32> =
+            ramp(!0)?.pixels().map(|p| (f32::from(p[0]) * samples as f32 / 255.0).round() as u32).collect();
+        // Masks from one resolve per sample, where the sample mask isolates samples.
+        let masks = if sample_mask_honoured {
+            let mut masks = vec![0u32; counts.len()];
+            for sample in 0..samples {
+                for (mask, pixel) in masks.iter_mut().zip(ramp(1 << sample)?.pixels()) {
+                    if pixel[0] > 0 {
+                        *mask |= 1 << sample;
+                    }
                 }
             }
-        }
-        Ok(summarise(samples, size, &masks))
+            Some(masks)
+        } else {
+            None
+        };
+        Ok(summarise(samples, size, &counts, masks.as_deref()))
     })
 }
 
-fn summarise(samples: u32, (width, rows): (u32, u32), masks: &[u32]) -> AlphaToCoverage {
-    let mask_at = |step: u32, row: u32| masks[(row * width + step) as usize];
+fn summarise(samples: u32, (width, rows): (u32, u32), counts: &[u32], masks: Option<&[u32]>) -> AlphaToCoverage {
+    let at = |step: u32, row: u32| (row * width + step) as usize;
     let mut mean_covered = Vec::new();
     let mut levels = BTreeSet::new();
     let mut seen_masks = Vec::new();
@@ -122,18 +119,21 @@ fn summarise(samples: u32, (width, rows): (u32, u32), masks: &[u32]) -> AlphaToC
     for step in 0..width {
         let mut total = 0;
         for row in 0..rows {
-            let mask = mask_at(step, row);
-            let covered = mask.count_ones();
+            let covered = counts[at(step, row)];
             total += covered;
             levels.insert(covered);
-            if !seen_masks.contains(&mask) {
-                seen_masks.push(mask);
+            if let Some(masks) = masks {
+                let mask = masks[at(step, row)];
+                if !seen_masks.contains(&mask) {
+                    seen_masks.push(mask);
+                }
+                dithered |= mask != masks[at(step, 0)];
             }
             if !thresholds.iter().any(|&(c, _)| c == covered) {
                 thresholds.push((covered, step));
             }
-            dithered |= mask != mask_at(step, 0);
-            if step > 0 && covered < mask_at(step - 1, row).count_ones() {
+            dithered |= covered != counts[at(step, 0)];
+            if step > 0 && covered < counts[at(step - 1, row)] {
                 monotonic = false;
             }
         }

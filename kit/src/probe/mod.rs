@@ -3,4 +3,6 @@
 
 pub mod alpha_to_coverage;
 pub mod occlusion;
+pub mod sample_mask;
 pub mod sample_positions;
+pub mod stencil_gated_draw;

@@ -17,11 +17,7 @@ pub enum OcclusionPrecision {
     /// The query returned 1 for several passing samples (and 0 for none).
     Boolean,
     /// Anything else: the returned values are given.
-    Wrong {
-        for_none: u64,
-        for_some: u64,
-        expected: u64,
-    },
+    Wrong { for_none: u64, for_some: u64, expected: u64 },
 }
 
 /// Draws a 3×2-pixel rect on an 8×8 target (6 samples pass) and an empty one (0 pass).
@@ -29,21 +25,12 @@ pub fn measure_occlusion_precision(gpu: &Gpu) -> Result<OcclusionPrecision> {
     gpu.scoped("occlusion precision probe", || {
         let size = (8, 8);
         let format = wgpu::TextureFormat::Rgba8Unorm;
-        let target = gpu.texture(
-            "occlusion probe",
-            size,
-            format,
-            1,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        );
+        let target = gpu.texture("occlusion probe", size, format, 1, wgpu::TextureUsages::RENDER_ATTACHMENT);
         let view = target.create_view(&Default::default());
         let rects = RectBatch::new(
             gpu,
             size,
-            &[
-                (Rect::new(2.0, 3.0, 5.0, 5.0), [1.0; 4]),
-                (Rect::new(4.0, 4.0, 4.0, 7.0), [1.0; 4]),
-            ],
+            &[(Rect::new(2.0, 3.0, 5.0, 5.0), [1.0; 4]), (Rect::new(4.0, 4.0, 4.0, 7.0), [1.0; 4])],
         );
         let pipeline = RectPipeline {
             colour_format: Some(format),
@@ -69,16 +56,12 @@ pub fn measure_occlusion_precision(gpu: &Gpu) -> Result<OcclusionPrecision> {
             pass.end_occlusion_query();
         }
         queries.resolve(&mut encoder);
-        gpu.queue.submit([encoder.finish()]);
+        gpu.submit(encoder);
         let counts = queries.read(gpu)?;
         Ok(match (counts[0], counts[1]) {
             (6, 0) => OcclusionPrecision::Exact,
             (1, 0) => OcclusionPrecision::Boolean,
-            (some, none) => OcclusionPrecision::Wrong {
-                for_none: none,
-                for_some: some,
-                expected: 6,
-            },
+            (some, none) => OcclusionPrecision::Wrong { for_none: none, for_some: some, expected: 6 },
         })
     })
 }

@@ -3,17 +3,20 @@
 //! a rect whose left (or top) edge sits i/256 into that pixel, so sample k is covered in pixels
 //! 0..c_k and its coordinate lies in [(c_k - 1)/256, c_k/256].
 //!
-//! Two independent routes read which samples are covered: a per-sample resolve (the pipeline's
-//! sample mask lets only sample k write, the resolve averages it into a plain texel) and, where
-//! occlusion queries count, a stencil pass plus one masked occlusion query per sample.
+//! Three independent routes read which samples are covered: a per-sample resolve (the pipeline's
+//! sample mask lets only sample k write, the resolve averages it into a plain texel); where
+//! occlusion queries count, a stencil pass plus one masked occlusion query per sample; and, where
+//! fragment shaders may write storage, per-sample invocations recording their `sample_index`.
+//! The first two need an honoured pipeline sample mask, the third real per-sample shading.
 
 use anyhow::{Context, Result, bail};
 use serde::Serialize;
+use wgpu::util::DeviceExt;
 
 use crate::attachments::colour;
 use crate::gpu::Gpu;
 use crate::query::OcclusionQueries;
-use crate::readback::{read_rgba8, read_texture};
+use crate::readback::{map_buffer, read_rgba8};
 use crate::rects::{Rect, RectBatch, RectFragment, RectPipeline, stencil_equal, stencil_replace};
 
 /// Sweep steps per pixel; rasterisers snap to at least 8 sub-pixel bits, so finer steps mean nothing.
@@ -28,10 +31,7 @@ pub struct Interval {
 
 impl Interval {
     fn from_covered_count(count: u32) -> Option<Self> {
-        (count > 0).then(|| Self {
-            lo: (count - 1) as f32 / STEPS as f32,
-            hi: count as f32 / STEPS as f32,
-        })
+        (count > 0).then(|| Self { lo: (count - 1) as f32 / STEPS as f32, hi: count as f32 / STEPS as f32 })
     }
 
     pub fn contains(&self, value: f32) -> bool {
@@ -61,12 +61,7 @@ pub fn standard_positions(samples: u32) -> Option<&'static [[f32; 2]]> {
     match samples {
         1 => Some(&[[0.5, 0.5]]),
         2 => Some(&[[0.75, 0.75], [0.25, 0.25]]),
-        4 => Some(&[
-            [0.375, 0.125],
-            [0.875, 0.375],
-            [0.125, 0.625],
-            [0.625, 0.875],
-        ]),
+        4 => Some(&[[0.375, 0.125], [0.875, 0.375], [0.125, 0.625], [0.625, 0.875]]),
         8 => Some(&[
             [0.5625, 0.3125],
             [0.4375, 0.6875],
@@ -126,13 +121,7 @@ fn covered_counts_by_resolve(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<
     let size = axis.strip();
     let format = wgpu::TextureFormat::Rgba8Unorm;
     // RENDER_ATTACHMENT only: on GL a multisampled texture that is also TEXTURE_BINDING gets no storage.
-    let msaa = gpu.texture(
-        "sweep msaa",
-        size,
-        format,
-        samples,
-        wgpu::TextureUsages::RENDER_ATTACHMENT,
-    );
+    let msaa = gpu.texture("sweep msaa", size, format, samples, wgpu::TextureUsages::RENDER_ATTACHMENT);
     let resolved = gpu.texture(
         "sweep resolved",
         size,
@@ -140,10 +129,7 @@ fn covered_counts_by_resolve(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<
         1,
         wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
     );
-    let (msaa_view, resolved_view) = (
-        msaa.create_view(&Default::default()),
-        resolved.create_view(&Default::default()),
-    );
+    let (msaa_view, resolved_view) = (msaa.create_view(&Default::default()), resolved.create_view(&Default::default()));
     let rects = RectBatch::new(gpu, size, &axis.sweep_rects());
     let mut counts = Vec::new();
     for sample in 0..samples {
@@ -160,11 +146,7 @@ fn covered_counts_by_resolve(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("sample sweep"),
                 color_attachments: &[colour(
-                    if samples > 1 {
-                        &msaa_view
-                    } else {
-                        &resolved_view
-                    },
+                    if samples > 1 { &msaa_view } else { &resolved_view },
                     (samples > 1).then_some(&resolved_view),
                     wgpu::Color::TRANSPARENT,
                 )],
@@ -173,13 +155,10 @@ fn covered_counts_by_resolve(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<
             pass.set_pipeline(&pipeline);
             rects.draw(&mut pass, ..);
         }
-        gpu.queue.submit([encoder.finish()]);
+        gpu.submit(encoder);
         let image = read_rgba8(gpu, &resolved)?;
         let covered: Vec<bool> = image.pixels().map(|p| p[0] > 0).collect();
-        counts.push(covered_prefix(
-            &covered,
-            &format!("{samples}x sample {sample} along {axis:?}"),
-        )?);
+        counts.push(covered_prefix(&covered, &format!("{samples}x sample {sample} along {axis:?}"))?);
     }
     Ok(counts)
 }
@@ -189,22 +168,13 @@ fn covered_counts_by_resolve(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<
 fn covered_counts_by_occlusion(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<u32>> {
     let size = axis.strip();
     let format = wgpu::TextureFormat::Depth24PlusStencil8;
-    let stencil = gpu.texture(
-        "sweep stencil",
-        size,
-        format,
-        samples,
-        wgpu::TextureUsages::RENDER_ATTACHMENT,
-    );
+    let stencil = gpu.texture("sweep stencil", size, format, samples, wgpu::TextureUsages::RENDER_ATTACHMENT);
     let view = stencil.create_view(&Default::default());
     let rects = RectBatch::new(gpu, size, &axis.sweep_rects());
     let full = RectBatch::new(gpu, size, &[(Rect::full(size.0, size.1), [1.0; 4])]);
-    let mark = RectPipeline {
-        depth_stencil: Some(stencil_replace(format)),
-        samples,
-        ..RectPipeline::new("mark sweep")
-    }
-    .create(gpu);
+    let mark =
+        RectPipeline { depth_stencil: Some(stencil_replace(format)), samples, ..RectPipeline::new("mark sweep") }
+            .create(gpu);
     let count_pipelines: Vec<_> = (0..samples)
         .map(|sample| {
             RectPipeline {
@@ -223,14 +193,8 @@ fn covered_counts_by_occlusion(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Ve
             label: Some("sample sweep by occlusion"),
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Discard,
-                }),
-                stencil_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0),
-                    store: wgpu::StoreOp::Discard,
-                }),
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Discard }),
             }),
             occlusion_query_set: Some(queries.set()),
             ..Default::default()
@@ -246,17 +210,14 @@ fn covered_counts_by_occlusion(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Ve
         }
     }
     queries.resolve(&mut encoder);
-    gpu.queue.submit([encoder.finish()]);
+    gpu.submit(encoder);
     Ok(queries.read(gpu)?.into_iter().map(|c| c as u32).collect())
 }
 
 fn positions_from_counts(x: &[u32], y: &[u32]) -> Vec<SamplePosition> {
     x.iter()
         .zip(y)
-        .map(|(&cx, &cy)| SamplePosition {
-            x: Interval::from_covered_count(cx),
-            y: Interval::from_covered_count(cy),
-        })
+        .map(|(&cx, &cy)| SamplePosition { x: Interval::from_covered_count(cx), y: Interval::from_covered_count(cy) })
         .collect()
 }
 
@@ -278,78 +239,220 @@ pub fn measure_by_occlusion(gpu: &Gpu, samples: u32) -> Result<Vec<SamplePositio
     })
 }
 
-/// What `@builtin(position)` and `sample_index` report under per-sample shading, per sample.
+/// What each per-sample invocation saw: its `sample_index` and `fract(@builtin(position))`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct PerSampleShading {
-    /// `sample_index` each sample's invocation saw (None where nothing was written).
-    pub sample_index: Vec<Option<u32>>,
-    /// `fract(position.xy)` each sample's invocation saw.
+    /// Invocations that ran for one fully covered pixel (N when shading is per sample).
+    pub invocations: u32,
+    /// `sample_index` of each invocation, ordered by index.
+    pub sample_index: Vec<u32>,
+    /// `fract(position.xy)` each invocation saw, in the same order.
     pub position: Vec<[f32; 2]>,
 }
 
-/// Runs a per-sample shader on a 1×1 target and reads each sample's output through a masked resolve.
+/// A storage buffer for fragment records plus its read-back twin.
+fn storage_pair(gpu: &Gpu, label: &str, size: u64) -> (wgpu::Buffer, wgpu::Buffer) {
+    let storage = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    (storage, readback)
+}
+
+/// Draws `rects` on an N-sample depth-stencil-only target with a recording fragment shader
+/// bound at group 0 and returns the storage buffer's bytes.
+fn record_fragments(
+    gpu: &Gpu,
+    size: (u32, u32),
+    samples: u32,
+    fragment: RectFragment,
+    rects: &[(Rect, [f32; 4])],
+    bindings: &[wgpu::BindingResource<'_>],
+    storage: (&wgpu::Buffer, &wgpu::Buffer),
+) -> Result<Vec<u8>> {
+    let format = wgpu::TextureFormat::Depth24PlusStencil8;
+    let depth = gpu.texture("recording target", size, format, samples, wgpu::TextureUsages::RENDER_ATTACHMENT);
+    let view = depth.create_view(&Default::default());
+    let pipeline = RectPipeline {
+        depth_stencil: Some(crate::rects::stencil_state(
+            format,
+            wgpu::CompareFunction::Always,
+            wgpu::StencilOperation::Keep,
+        )),
+        fragment,
+        samples,
+        ..RectPipeline::new("recording draw")
+    }
+    .create(gpu);
+    let entries: Vec<wgpu::BindGroupEntry> = bindings
+        .iter()
+        .enumerate()
+        .map(|(i, r)| wgpu::BindGroupEntry { binding: i as u32, resource: r.clone() })
+        .collect();
+    let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("recording bindings"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    });
+    let batch = RectBatch::new(gpu, size, rects);
+    let mut encoder = gpu.encoder("recording draw");
+    encoder.clear_buffer(storage.0, 0, None);
+    {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("recording draw"),
+            depth_stencil_attachment: crate::attachments::stencil(&view, Some(0)),
+            ..Default::default()
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        batch.draw(&mut pass, ..);
+    }
+    encoder.copy_buffer_to_buffer(storage.0, 0, storage.1, 0, None);
+    gpu.submit(encoder);
+    map_buffer(gpu, storage.1)
+}
+
+/// Sample-index slots per pixel in the storage route; the last one also catches larger indices.
+const SLOTS_PER_PIXEL: u32 = 32;
+
+/// Per-sample covered counts along one axis, through fragment storage writes indexed by
+/// `sample_index` (needs per-sample shading and fragment storage writes). An invocation with a
+/// `sample_index` the target should not have is an error naming the indices seen.
+fn covered_counts_by_storage(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<u32>> {
+    let size = axis.strip();
+    let strip = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("strip layout"),
+        contents: bytemuck::cast_slice(&[size.0, SLOTS_PER_PIXEL, 0, 0]),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let (storage, readback) = storage_pair(gpu, "covered samples", u64::from(STEPS * SLOTS_PER_PIXEL) * 4);
+    let bytes = record_fragments(
+        gpu,
+        size,
+        samples,
+        RectFragment::SampleCoverageRecord,
+        &axis.sweep_rects(),
+        &[strip.as_entire_binding(), storage.as_entire_binding()],
+        (&storage, &readback),
+    )?;
+    let covered: &[u32] = bytemuck::cast_slice(&bytes);
+    let pixels = || covered.chunks_exact(SLOTS_PER_PIXEL as usize);
+    let seen: Vec<u32> = (0..SLOTS_PER_PIXEL).filter(|&s| pixels().any(|p| p[s as usize] != 0)).collect();
+    if seen.iter().any(|&s| s >= samples) {
+        bail!("a {samples}x target ran per-sample invocations with sample_index {seen:?}");
+    }
+    (0..samples as usize)
+        .map(|sample| {
+            let column: Vec<bool> = pixels().map(|pixel| pixel[sample] != 0).collect();
+            covered_prefix(&column, &format!("{samples}x sample {sample} along {axis:?} (storage)"))
+        })
+        .collect()
+}
+
+/// Sample positions read through fragment storage writes indexed by `sample_index`.
+pub fn measure_by_storage(gpu: &Gpu, samples: u32) -> Result<Vec<SamplePosition>> {
+    gpu.scoped(&format!("{samples}x sample sweep (storage)"), || {
+        let x = covered_counts_by_storage(gpu, samples, Axis::X)?;
+        let y = covered_counts_by_storage(gpu, samples, Axis::Y)?;
+        Ok(positions_from_counts(&x, &y))
+    })
+}
+
+/// Runs a per-sample shader over one fully covered pixel and lists its invocations.
 pub fn measure_per_sample_shading(gpu: &Gpu, samples: u32) -> Result<PerSampleShading> {
     gpu.scoped(&format!("{samples}x per-sample shading probe"), || {
-        let format = wgpu::TextureFormat::Rgba16Float;
-        let msaa = gpu.texture(
-            "per-sample msaa",
+        // Layout of `Invocations` in shaders/kit/sample_position.wgsl: count + 3 pad, 64 × 4 words.
+        let (storage, readback) = storage_pair(gpu, "per-sample invocations", (4 + 64 * 4) * 4);
+        let bytes = record_fragments(
+            gpu,
             (1, 1),
-            format,
             samples,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        );
-        let resolved = gpu.texture(
-            "per-sample resolved",
-            (1, 1),
-            format,
-            1,
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        );
-        let (msaa_view, resolved_view) = (
-            msaa.create_view(&Default::default()),
-            resolved.create_view(&Default::default()),
-        );
-        let full = RectBatch::new(gpu, (1, 1), &[(Rect::full(1, 1), [1.0; 4])]);
-        let mut result = PerSampleShading {
-            sample_index: Vec::new(),
-            position: Vec::new(),
-        };
-        for sample in 0..samples {
-            let pipeline = RectPipeline {
-                colour_format: Some(format),
-                fragment: RectFragment::SamplePosition,
-                samples,
-                sample_mask: 1 << sample,
-                ..RectPipeline::new("per-sample probe")
-            }
-            .create(gpu);
-            let mut encoder = gpu.encoder("per-sample probe");
-            {
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("per-sample probe"),
-                    color_attachments: &[colour(
-                        if samples > 1 {
-                            &msaa_view
-                        } else {
-                            &resolved_view
-                        },
-                        (samples > 1).then_some(&resolved_view),
-                        wgpu::Color::TRANSPARENT,
-                    )],
-                    ..Default::default()
-                });
-                pass.set_pipeline(&pipeline);
-                full.draw(&mut pass, ..);
-            }
-            gpu.queue.submit([encoder.finish()]);
-            // Only sample `sample` was written; the resolve averaged it with zeros.
-            let texel = read_texture(gpu, &resolved, wgpu::TextureAspect::All, 0)?.as_f16();
-            let n = samples as f32;
-            let index_code = (texel[2] * n * 16.0).round() as i64 - 1;
-            result.sample_index.push(u32::try_from(index_code).ok());
-            result.position.push([texel[0] * n, texel[1] * n]);
-        }
-        Ok(result)
+            RectFragment::SamplePosition,
+            &[(Rect::full(1, 1), [1.0; 4])],
+            &[storage.as_entire_binding()],
+            (&storage, &readback),
+        )?;
+        let words: &[u32] = bytemuck::cast_slice(&bytes);
+        let invocations = words[0];
+        let mut records: Vec<(u32, [f32; 2])> = words[4..]
+            .chunks_exact(4)
+            .take(invocations.min(64) as usize)
+            .map(|r| (r[2], [f32::from_bits(r[0]), f32::from_bits(r[1])]))
+            .collect();
+        records.sort_by_key(|r| r.0);
+        Ok(PerSampleShading {
+            invocations,
+            sample_index: records.iter().map(|r| r.0).collect(),
+            position: records.iter().map(|r| r.1).collect(),
+        })
     })
     .context("per-sample shading")
+}
+
+/// A way of reading per-sample coverage.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Route {
+    Resolve,
+    Occlusion,
+    Storage,
+}
+
+/// The sweep read by every route this adapter allows, and whether the routes agree.
+#[derive(Clone, Debug, Serialize)]
+pub struct PositionsMeasurement {
+    pub sample_mask_honoured: bool,
+    pub routes: Vec<(Route, Result<Vec<SamplePosition>, String>)>,
+    /// Routes that could not run here, and why.
+    pub skipped: Vec<(Route, String)>,
+}
+
+impl PositionsMeasurement {
+    /// The positions all successful routes agree on; None when none succeeded or they disagree.
+    pub fn agreed(&self) -> Option<&Vec<SamplePosition>> {
+        let mut results = self.routes.iter().filter_map(|(_, r)| r.as_ref().ok());
+        let first = results.next()?;
+        results.all(|other| other == first).then_some(first)
+    }
+}
+
+/// Runs the sweep through every route the adapter allows: the mask-based routes only where
+/// the mask is honoured, occlusion only where counts are exact, storage only where fragment
+/// shaders may write storage.
+pub fn measure(gpu: &Gpu, samples: u32) -> Result<PositionsMeasurement> {
+    use crate::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
+    use crate::probe::sample_mask::measure_sample_mask;
+    let sample_mask_honoured = samples == 1 || measure_sample_mask(gpu, samples)?.iter().all(|m| m.honoured());
+    let exact_occlusion = measure_occlusion_precision(gpu)? == OcclusionPrecision::Exact;
+    let fragment_storage =
+        gpu.adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE);
+    let mut routes = Vec::new();
+    let mut skipped = Vec::new();
+    let text = |r: Result<Vec<SamplePosition>>| r.map_err(|e| format!("{e:#}"));
+    if sample_mask_honoured {
+        routes.push((Route::Resolve, text(measure_by_resolve(gpu, samples))));
+        if exact_occlusion {
+            routes.push((Route::Occlusion, text(measure_by_occlusion(gpu, samples))));
+        } else {
+            skipped.push((Route::Occlusion, "occlusion queries do not count samples".into()));
+        }
+    } else {
+        let why = "the pipeline sample mask is ignored";
+        skipped.push((Route::Resolve, why.into()));
+        skipped.push((Route::Occlusion, why.into()));
+    }
+    if fragment_storage {
+        routes.push((Route::Storage, text(measure_by_storage(gpu, samples))));
+    } else {
+        skipped.push((Route::Storage, "fragment shaders cannot write storage".into()));
+    }
+    Ok(PositionsMeasurement { sample_mask_honoured, routes, skipped })
 }

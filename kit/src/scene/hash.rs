@@ -20,9 +20,7 @@ pub struct SeededRng {
 
 impl SeededRng {
     pub fn new(seed: u32) -> Self {
-        Self {
-            state: pcg_hash(seed),
-        }
+        Self { state: pcg_hash(seed) }
     }
 
     pub fn next_u32(&mut self) -> u32 {

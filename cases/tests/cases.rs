@@ -1,0 +1,65 @@
+//! One test per registered case: it fails when the case ends in an unexpected failure (a fail
+//! not listed in cases/expectations.toml, or a listed one that passed). Where the result is
+//! adapter-specific, its outcome and metrics (timings left out) are snapshotted per adapter.
+
+mod support;
+
+use fragkit::harness::report::CaseRecord;
+
+/// Metrics that are timings: they vary run to run and stay out of snapshots.
+const TIMING_METRICS: &[&str] = &["equal_ms", "always_ms", "time_ratio"];
+
+fn check(name: &str) {
+    let (record, slug) = support::run(name);
+    assert!(
+        !record.outcome.is_failure(),
+        "{name}: {:?}: {}\nmetrics: {}",
+        record.outcome,
+        record.reason,
+        serde_json::to_string_pretty(&record.metrics).unwrap()
+    );
+    if support::has_snapshots(&slug) {
+        snapshot(&record, &slug);
+    }
+}
+
+fn snapshot(record: &CaseRecord, slug: &str) {
+    let mut metrics = record.metrics.clone();
+    metrics.retain(|k, _| !TIMING_METRICS.contains(&k.as_str()));
+    let mut settings = insta::Settings::clone_current();
+    settings.set_snapshot_path("../../snapshots");
+    settings.set_snapshot_suffix(slug);
+    settings.set_prepend_module_to_snapshot(false);
+    settings.bind(|| {
+        insta::assert_json_snapshot!(
+            record.name.clone(),
+            serde_json::json!({"outcome": record.outcome, "metrics": metrics})
+        );
+    });
+}
+
+macro_rules! case_tests {
+    ($($test:ident => $name:literal),* $(,)?) => {
+        $(#[test] fn $test() { check($name); })*
+
+        #[test]
+        fn every_registered_case_has_a_test() {
+            let tested: Vec<&str> = vec![$($name),*];
+            for case in fragkit_cases::ALL {
+                assert!(tested.contains(&case.name), "case {} has no test in cases/tests/cases.rs", case.name);
+            }
+        }
+    };
+}
+
+case_tests! {
+    kit_msaa_sample_positions_1x => "kit.msaa.sample_positions.1x",
+    kit_msaa_sample_positions_2x => "kit.msaa.sample_positions.2x",
+    kit_msaa_sample_positions_4x => "kit.msaa.sample_positions.4x",
+    kit_msaa_sample_positions_8x => "kit.msaa.sample_positions.8x",
+    kit_msaa_sample_mask => "kit.msaa.sample_mask",
+    kit_occlusion_exact => "kit.occlusion.exact",
+    kit_scissor_msaa => "kit.scissor.msaa",
+    kit_early_rejection => "kit.early_rejection",
+    kit_determinism => "kit.determinism",
+}

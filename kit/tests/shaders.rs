@@ -1,0 +1,61 @@
+//! Every WGSL file under `shaders/` is registered, validates with naga once the common snippets
+//! are prepended, and has no compute entry point: the kit is render-only.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use fragkit::shaders::{ALL, COMMON};
+
+fn wgsl_files(dir: &Path, root: &Path, found: &mut BTreeSet<String>) {
+    for entry in std::fs::read_dir(dir).expect("reading shaders/") {
+        let path = entry.expect("directory entry").path();
+        if path.is_dir() {
+            wgsl_files(&path, root, found);
+        } else if path.extension().is_some_and(|e| e == "wgsl") {
+            found.insert(path.strip_prefix(root).unwrap().to_string_lossy().replace('\\', "/"));
+        }
+    }
+}
+
+fn shaders_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders")
+}
+
+#[test]
+fn every_shader_file_is_registered() {
+    let mut on_disk = BTreeSet::new();
+    wgsl_files(&shaders_dir(), &shaders_dir(), &mut on_disk);
+    let registered: BTreeSet<String> =
+        ALL.iter().map(|f| f.path.to_owned()).chain(COMMON.iter().map(|(p, _)| (*p).to_owned())).collect();
+    assert_eq!(on_disk, registered, "shaders on disk vs shaders::ALL + shaders::COMMON");
+}
+
+fn validate(name: &str, source: &str) -> naga::Module {
+    let module =
+        naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
+    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+    module
+}
+
+#[test]
+fn every_shader_validates_and_has_no_compute_entry_point() {
+    for (path, source) in COMMON {
+        let module = validate(path, source);
+        assert!(module.entry_points.is_empty(), "{path}: common snippets must not declare entry points");
+    }
+    for file in ALL {
+        let module = validate(file.path, &file.assembled());
+        assert!(!module.entry_points.is_empty(), "{}: no entry point", file.path);
+        for entry in &module.entry_points {
+            assert_ne!(entry.stage, naga::ShaderStage::Compute, "{}: compute entry point {:?}", file.path, entry.name);
+        }
+    }
+}
+
+#[test]
+fn the_compute_check_catches_a_compute_entry_point() {
+    let module = validate("inline", "@compute @workgroup_size(1) fn main() {}");
+    assert!(module.entry_points.iter().any(|e| e.stage == naga::ShaderStage::Compute));
+}
