@@ -105,12 +105,7 @@ impl Caps {
                     standard_positions,
                     per_sample_shading: measure_per_sample_shading(gpu, samples).map_err(|e| format!("{e:#}")),
                     alpha_to_coverage: if samples > 1 {
-                        measure_alpha_to_coverage(
-                            gpu,
-                            samples,
-                            mask_honoured,
-                        )
-                        .map_err(|e| format!("{e:#}"))
+                        measure_alpha_to_coverage(gpu, samples, mask_honoured).map_err(|e| format!("{e:#}"))
                     } else {
                         Err("alpha-to-coverage needs more than one sample".into())
                     },
