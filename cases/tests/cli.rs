@@ -69,3 +69,12 @@ fn check_writes_a_json_report_and_list_names_every_case() {
         assert!(listing.contains(case.name), "list lacks {}", case.name);
     }
 }
+
+#[test]
+fn a_listed_case_that_passes_fails_the_run_as_an_unexpected_pass() {
+    let path = std::env::temp_dir().join("fragkit-stale-expectations.toml");
+    std::fs::write(&path, "[[known_issue]]\ncase = \"kit.determinism\"\nreason = \"stale entry\"\n").unwrap();
+    let (code, text) = fragkit(&["check", "kit.determinism", "--expectations", path.to_str().unwrap()]);
+    assert_eq!(code, 1, "{text}");
+    assert!(text.contains("UNEXPECTED_PASS"), "{text}");
+}

@@ -23,6 +23,9 @@ pub struct KnownIssue {
     pub adapter: Option<String>,
     pub driver: Option<String>,
     pub driver_info: Option<String>,
+    /// Glob that every problem of the failure must match (a case joins its problems with
+    /// "; "); absent: any failure. A failure this entry does not explain stays a failure.
+    pub failure: Option<String>,
     /// Why it fails, with the measured evidence.
     pub reason: String,
 }
@@ -51,6 +54,7 @@ impl Expectations {
                 issue.adapter.as_ref(),
                 issue.driver.as_ref(),
                 issue.driver_info.as_ref(),
+                issue.failure.as_ref(),
             ];
             for pattern in patterns.into_iter().flatten() {
                 Pattern::new(pattern).with_context(|| {
@@ -74,6 +78,11 @@ impl Expectations {
 }
 
 impl KnownIssue {
+    /// Whether this entry explains a failure with the given reason.
+    pub fn explains(&self, reason: &str) -> bool {
+        self.failure.as_deref().is_none_or(|pattern| reason.split("; ").all(|problem| glob_matches(pattern, problem)))
+    }
+
     fn matches(&self, case: &str, adapter: &AdapterDescription) -> bool {
         let field = |pattern: &Option<String>, text: &str| pattern.as_deref().is_none_or(|p| glob_matches(p, text));
         glob_matches(&self.case, case)
@@ -81,5 +90,57 @@ impl KnownIssue {
             && field(&self.adapter, &adapter.name)
             && field(&self.driver, &adapter.driver)
             && field(&self.driver_info, &adapter.driver_info)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lavapipe() -> AdapterDescription {
+        AdapterDescription {
+            name: "llvmpipe (LLVM 15.0.6, 256 bits)".into(),
+            backend: "vulkan".into(),
+            driver: "llvmpipe".into(),
+            driver_info: "Mesa 22.3.6 (LLVM 15.0.6)".into(),
+            device_type: "Cpu".into(),
+        }
+    }
+
+    const ENTRY: &str = r#"
+        [[known_issue]]
+        case = "kit.scissor.*"
+        backend = "vulkan"
+        adapter = "LLVMPIPE*"
+        driver_info = "Mesa 22.3*"
+        failure = "4x: *"
+        reason = "row above and column left"
+    "#;
+
+    #[test]
+    fn an_entry_matches_by_case_and_adapter_globs() {
+        let expectations = Expectations::parse(ENTRY, "test").unwrap();
+        assert!(expectations.find("kit.scissor.msaa", &lavapipe()).is_some());
+        assert!(expectations.find("kit.determinism", &lavapipe()).is_none());
+        let gl = AdapterDescription { backend: "gl".into(), ..lavapipe() };
+        assert!(expectations.find("kit.scissor.msaa", &gl).is_none());
+        let newer = AdapterDescription { driver_info: "Mesa 24.0.1".into(), ..lavapipe() };
+        assert!(expectations.find("kit.scissor.msaa", &newer).is_none());
+    }
+
+    #[test]
+    fn an_entry_explains_only_the_failures_it_describes() {
+        let expectations = Expectations::parse(ENTRY, "test").unwrap();
+        let issue = expectations.find("kit.scissor.msaa", &lavapipe()).unwrap();
+        assert!(issue.explains("4x: 31 pixels differ; 4x: 861 samples, expected 800"));
+        assert!(!issue.explains("1x: 1000 pixels differ; 4x: 31 pixels differ"));
+    }
+
+    #[test]
+    fn unknown_fields_and_bad_globs_are_errors() {
+        let typo = Expectations::parse("[[known_issue]]\ncase = \"x\"\nreasn = \"y\"\n", "test").unwrap_err();
+        assert!(format!("{typo:#}").contains("reasn"), "{typo:#}");
+        let glob = Expectations::parse("[[known_issue]]\ncase = \"[x\"\nreason = \"y\"\n", "test").unwrap_err();
+        assert!(format!("{glob:#}").contains("bad pattern"), "{glob:#}");
     }
 }

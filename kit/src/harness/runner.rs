@@ -102,8 +102,17 @@ pub fn run_case(
             ReportedOutcome::UnexpectedPass,
             format!("passed, but the expectations file lists it as a known issue ({}); remove the entry", issue.reason),
         ),
+        (Outcome::Fail(why), Some(issue)) if issue.explains(&why) => {
+            (ReportedOutcome::KnownIssue, format!("{why} [known: {}]", issue.reason))
+        }
+        (Outcome::Fail(why), Some(issue)) => (
+            ReportedOutcome::Fail,
+            format!(
+                "{why} [a known issue is listed for this case, but it does not explain this failure: {}]",
+                issue.reason
+            ),
+        ),
         (Outcome::Fail(why), None) => (ReportedOutcome::Fail, why),
-        (Outcome::Fail(why), Some(issue)) => (ReportedOutcome::KnownIssue, format!("{why} [known: {}]", issue.reason)),
         (Outcome::NotSupported(why), _) => (ReportedOutcome::NotSupported, why),
     };
     CaseRecord {
