@@ -5,6 +5,7 @@
 
 pub mod attachments;
 pub mod caps;
+pub mod fullscreen;
 pub mod gpu;
 pub mod harness;
 pub mod image_compare;

@@ -26,6 +26,7 @@ macro_rules! shader_files {
 
 shader_files! {
     RECT => "kit/rect.wgsl",
+    FULLSCREEN => "kit/fullscreen.wgsl",
     SAMPLE_POSITION => "kit/sample_position.wgsl",
     SAMPLE_COVERAGE_RECORD => "kit/sample_coverage_record.wgsl",
     ALPHA_RAMP => "kit/alpha_ramp.wgsl",

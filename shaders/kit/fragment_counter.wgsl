@@ -3,11 +3,6 @@
 
 @group(0) @binding(0) var<storage, read_write> fragment_count: atomic<u32>;
 
-@vertex
-fn vs_fullscreen(@builtin(vertex_index) vertex_index: u32) -> @builtin(position) vec4f {
-    return fullscreen_clip_position(vertex_index);
-}
-
 @fragment
 @early_depth_test(force)
 fn fs_count() {

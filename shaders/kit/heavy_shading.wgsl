@@ -7,11 +7,6 @@ struct Workload {
 
 @group(0) @binding(0) var<uniform> workload: Workload;
 
-@vertex
-fn vs_fullscreen(@builtin(vertex_index) vertex_index: u32) -> @builtin(position) vec4f {
-    return fullscreen_clip_position(vertex_index);
-}
-
 @fragment
 fn fs_heavy(@builtin(position) position: vec4f) -> @location(0) vec4f {
     var value = vec3f(position.xy * 0.001, 0.5);

@@ -4,6 +4,7 @@
 
 use anyhow::Result;
 use fragkit::attachments;
+use fragkit::fullscreen::{bind_group, uniform_buffer};
 use fragkit::gpu::Gpu;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
 use fragkit::image_compare::{compare, side_by_side};
@@ -107,16 +108,8 @@ fn render(ctx: &mut Ctx, size: (u32, u32), vertices: &[Vertex], seed: u32) -> Re
         contents: bytemuck::cast_slice(vertices),
         usage: wgpu::BufferUsages::VERTEX,
     });
-    let seed_buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("noise seed"),
-        contents: bytemuck::cast_slice(&[seed, 0, 0, 0]),
-        usage: wgpu::BufferUsages::UNIFORM,
-    });
-    let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("noise seed"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[wgpu::BindGroupEntry { binding: 0, resource: seed_buffer.as_entire_binding() }],
-    });
+    let seed_buffer = uniform_buffer(gpu, "noise seed", bytemuck::cast_slice(&[seed, 0, 0, 0]));
+    let bind_group = bind_group(gpu, "noise seed", &pipeline, 0, &[seed_buffer.as_entire_binding()]);
     let mut encoder = gpu.encoder("determinism");
     {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

@@ -6,9 +6,9 @@ use std::collections::BTreeSet;
 
 use anyhow::Result;
 use serde::Serialize;
-use wgpu::util::DeviceExt;
 
 use crate::attachments::colour;
+use crate::fullscreen::{bind_group, uniform_buffer};
 use crate::gpu::Gpu;
 use crate::readback::read_rgba8;
 use crate::rects::{Rect, RectBatch, RectFragment, RectPipeline};
@@ -53,11 +53,7 @@ pub fn measure_alpha_to_coverage(gpu: &Gpu, samples: u32, sample_mask_honoured: 
         let (msaa_view, resolved_view) =
             (msaa.create_view(&Default::default()), resolved.create_view(&Default::default()));
         let full = RectBatch::new(gpu, size, &[(Rect::full(size.0, size.1), [1.0; 4])]);
-        let steps = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("alpha ramp steps"),
-            contents: bytemuck::cast_slice(&[ALPHA_STEPS as f32, 0.0, 0.0, 0.0]),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
+        let steps = uniform_buffer(gpu, "alpha ramp steps", bytemuck::cast_slice(&[ALPHA_STEPS as f32, 0.0, 0.0, 0.0]));
         let ramp = |sample_mask: u64| -> Result<image::RgbaImage> {
             let pipeline = RectPipeline {
                 colour_format: Some(format),
@@ -68,11 +64,7 @@ pub fn measure_alpha_to_coverage(gpu: &Gpu, samples: u32, sample_mask_honoured: 
                 ..RectPipeline::new("alpha ramp")
             }
             .create(gpu);
-            let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("alpha ramp"),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &[wgpu::BindGroupEntry { binding: 0, resource: steps.as_entire_binding() }],
-            });
+            let bind_group = bind_group(gpu, "alpha ramp", &pipeline, 0, &[steps.as_entire_binding()]);
             let mut encoder = gpu.encoder("alpha ramp");
             {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

@@ -11,9 +11,9 @@
 
 use anyhow::{Context, Result, bail};
 use serde::Serialize;
-use wgpu::util::DeviceExt;
 
 use crate::attachments::colour;
+use crate::fullscreen::{bind_group, uniform_buffer};
 use crate::gpu::Gpu;
 use crate::query::OcclusionQueries;
 use crate::readback::{map_buffer, read_rgba8};
@@ -292,16 +292,7 @@ fn record_fragments(
         ..RectPipeline::new("recording draw")
     }
     .create(gpu);
-    let entries: Vec<wgpu::BindGroupEntry> = bindings
-        .iter()
-        .enumerate()
-        .map(|(i, r)| wgpu::BindGroupEntry { binding: i as u32, resource: r.clone() })
-        .collect();
-    let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("recording bindings"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &entries,
-    });
+    let bind_group = bind_group(gpu, "recording bindings", &pipeline, 0, bindings);
     let batch = RectBatch::new(gpu, size, rects);
     let mut encoder = gpu.encoder("recording draw");
     encoder.clear_buffer(storage.0, 0, None);
@@ -328,11 +319,7 @@ const SLOTS_PER_PIXEL: u32 = 32;
 /// `sample_index` the target should not have is an error naming the indices seen.
 fn covered_counts_by_storage(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<u32>> {
     let size = axis.strip();
-    let strip = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("strip layout"),
-        contents: bytemuck::cast_slice(&[size.0, SLOTS_PER_PIXEL, 0, 0]),
-        usage: wgpu::BufferUsages::UNIFORM,
-    });
+    let strip = uniform_buffer(gpu, "strip layout", bytemuck::cast_slice(&[size.0, SLOTS_PER_PIXEL, 0, 0]));
     let (storage, readback) = storage_pair(gpu, "covered samples", u64::from(STEPS * SLOTS_PER_PIXEL) * 4);
     let bytes = record_fragments(
         gpu,

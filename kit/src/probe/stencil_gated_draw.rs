@@ -9,6 +9,7 @@ use anyhow::{Result, ensure};
 use wgpu::util::DeviceExt;
 
 use crate::attachments;
+use crate::fullscreen::{FullscreenPipeline, bind_group, uniform_buffer};
 use crate::gpu::Gpu;
 use crate::query::{GpuTimer, OcclusionQueries};
 use crate::readback::map_buffer;
@@ -52,33 +53,16 @@ fn heavy_pipeline(
     compare: wgpu::CompareFunction,
     workload: &wgpu::Buffer,
 ) -> (wgpu::RenderPipeline, wgpu::BindGroup) {
-    let module = shaders::HEAVY_SHADING.module(gpu);
-    let pipeline = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("heavy shading"),
-        layout: None,
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("vs_fullscreen"),
-            compilation_options: Default::default(),
-            buffers: &[],
-        },
-        primitive: Default::default(),
+    let pipeline = FullscreenPipeline {
+        label: "heavy shading",
+        fragment: shaders::HEAVY_SHADING,
+        entry_point: "fs_heavy",
+        targets: &[Some(COLOUR.into())],
         depth_stencil: Some(stencil_state(STENCIL, compare, wgpu::StencilOperation::Keep)),
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("fs_heavy"),
-            compilation_options: Default::default(),
-            targets: &[Some(COLOUR.into())],
-        }),
-        multiview_mask: None,
-        cache: None,
-    });
-    let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("workload"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[wgpu::BindGroupEntry { binding: 0, resource: workload.as_entire_binding() }],
-    });
+        samples: 1,
+    }
+    .create(gpu);
+    let bind_group = bind_group(gpu, "workload", &pipeline, 0, &[workload.as_entire_binding()]);
     (pipeline, bind_group)
 }
 
@@ -88,11 +72,7 @@ impl StencilGatedDraw {
         ensure!(passing.0 <= size.0 && passing.1 <= size.1, "passing square {passing:?} exceeds the target {size:?}");
         let stencil = gpu.texture("gate stencil", size, STENCIL, 1, wgpu::TextureUsages::RENDER_ATTACHMENT);
         let colour = gpu.texture("heavy colour", size, COLOUR, 1, wgpu::TextureUsages::RENDER_ATTACHMENT);
-        let workload = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("workload"),
-            contents: bytemuck::cast_slice(&[iterations, 0, 0, 0]),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
+        let workload = uniform_buffer(gpu, "workload", bytemuck::cast_slice(&[iterations, 0, 0, 0]));
         Ok(Self {
             stencil_view: stencil.create_view(&Default::default()),
             colour_view: colour.create_view(&Default::default()),
@@ -160,28 +140,15 @@ impl StencilGatedDraw {
     /// (needs `SHADER_EARLY_DEPTH_TEST` and fragment storage writes). Marks the square first.
     pub fn count_fragments_with_atomic(&self, gpu: &Gpu) -> Result<u32> {
         self.draw(gpu, Gate::Equal)?;
-        let module = shaders::FRAGMENT_COUNTER.module(gpu);
-        let pipeline = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("fragment counter"),
-            layout: None,
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_fullscreen"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: Default::default(),
+        let pipeline = FullscreenPipeline {
+            label: "fragment counter",
+            fragment: shaders::FRAGMENT_COUNTER,
+            entry_point: "fs_count",
+            targets: &[],
             depth_stencil: Some(stencil_state(STENCIL, wgpu::CompareFunction::Equal, wgpu::StencilOperation::Keep)),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_count"),
-                compilation_options: Default::default(),
-                targets: &[],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+            samples: 1,
+        }
+        .create(gpu);
         let counter = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("fragment counter"),
             contents: bytemuck::cast_slice(&[0u32]),
@@ -193,11 +160,7 @@ impl StencilGatedDraw {
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
-        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("fragment counter"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: counter.as_entire_binding() }],
-        });
+        let bind_group = bind_group(gpu, "fragment counter", &pipeline, 0, &[counter.as_entire_binding()]);
         let mut encoder = gpu.encoder("fragment counter");
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

@@ -1,0 +1,75 @@
+//! Full-screen passes: `shaders/kit/fullscreen.wgsl`'s triangle with a fragment stage from any
+//! pass file, and the bind groups and uniforms such passes take.
+
+use wgpu::util::DeviceExt;
+
+use crate::gpu::Gpu;
+use crate::shaders::{self, ShaderFile};
+
+/// A full-screen pipeline's fixed-function state; `layout: None` lets wgpu derive the layout.
+#[derive(Clone, Debug)]
+pub struct FullscreenPipeline<'a> {
+    pub label: &'a str,
+    pub fragment: ShaderFile,
+    pub entry_point: &'a str,
+    pub targets: &'a [Option<wgpu::ColorTargetState>],
+    pub depth_stencil: Option<wgpu::DepthStencilState>,
+    pub samples: u32,
+}
+
+impl FullscreenPipeline<'_> {
+    pub fn create(&self, gpu: &Gpu) -> wgpu::RenderPipeline {
+        let vertex = shaders::FULLSCREEN.module(gpu);
+        let fragment = self.fragment.module(gpu);
+        gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(self.label),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &vertex,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: self.depth_stencil.clone(),
+            multisample: wgpu::MultisampleState { count: self.samples, ..Default::default() },
+            fragment: Some(wgpu::FragmentState {
+                module: &fragment,
+                entry_point: Some(self.entry_point),
+                compilation_options: Default::default(),
+                targets: self.targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+}
+
+/// Binds `resources` at bindings 0, 1, ... of group `group` of a pipeline with a derived layout.
+pub fn bind_group(
+    gpu: &Gpu,
+    label: &str,
+    pipeline: &wgpu::RenderPipeline,
+    group: u32,
+    resources: &[wgpu::BindingResource<'_>],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = resources
+        .iter()
+        .enumerate()
+        .map(|(i, resource)| wgpu::BindGroupEntry { binding: i as u32, resource: resource.clone() })
+        .collect();
+    gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout: &pipeline.get_bind_group_layout(group),
+        entries: &entries,
+    })
+}
+
+/// A uniform buffer holding `contents` (padded by the caller to WGSL's layout).
+pub fn uniform_buffer(gpu: &Gpu, label: &str, contents: &[u8]) -> wgpu::Buffer {
+    gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents,
+        usage: wgpu::BufferUsages::UNIFORM,
+    })
+}
