@@ -37,6 +37,11 @@ enum Command {
     },
     /// List cases with their parameters and requirements.
     List { pattern: Option<String> },
+    /// Render a technique's intermediates and results as PNGs for a person to look at.
+    Render {
+        #[command(subcommand)]
+        technique: Technique,
+    },
     /// Run cases (glob patterns; all when none) and exit 1 on any unexpected failure.
     Check {
         patterns: Vec<String>,
@@ -53,6 +58,34 @@ enum Command {
         #[arg(long)]
         expectations: Option<PathBuf>,
     },
+}
+
+#[derive(Subcommand)]
+enum Technique {
+    /// Coarse pixel shading: LOD buffer, stencil masks, lit mips, the three composites.
+    Cps {
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, default_value = "320x180", value_parser = parse_size)]
+        size: (u32, u32),
+        /// foveated or content.
+        #[arg(long, default_value = "foveated")]
+        policy: String,
+        #[arg(long, default_value_t = 5)]
+        max_level: u32,
+        #[arg(long, default_value_t = 200)]
+        lights: u32,
+        #[arg(long, default_value_t = 1)]
+        seed: u32,
+    },
+}
+
+fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    match fragkit::harness::ParamKind::Sizes.parse(text) {
+        Ok(fragkit::harness::params::ParamValue::Sizes(sizes)) if sizes.len() == 1 => Ok(sizes[0]),
+        Ok(_) => Err(format!("{text:?}: expected one size like 320x180")),
+        Err(e) => Err(format!("{e:#}")),
+    }
 }
 
 fn main() -> ExitCode {
@@ -102,11 +135,31 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 }
             }
         }
+        Command::Render { technique } => render(&selector, technique)?,
         Command::Check { patterns, sets, json, out, expectations } => {
             return check(&selector, &patterns, &sets, json, out, expectations);
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+fn render(selector: &AdapterSelector, technique: Technique) -> Result<()> {
+    match technique {
+        Technique::Cps { out, size, policy, max_level, lights, seed } => {
+            let policy = fragkit::cps::LodPolicy::parse(&policy)?;
+            std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+            let gpu = Gpu::open(selector)?;
+            let pictures = gpu.scoped("render cps", || {
+                fragkit::cps::pictures::render_all(&gpu, size, policy, max_level, lights, seed)
+            })?;
+            for (name, image) in pictures {
+                let path = out.join(format!("cps_{name}.png"));
+                image.save(&path).with_context(|| format!("writing {}", path.display()))?;
+                println!("{}", path.display());
+            }
+        }
+    }
+    Ok(())
 }
 
 fn check(

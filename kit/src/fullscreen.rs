@@ -53,10 +53,23 @@ pub fn bind_group(
     group: u32,
     resources: &[wgpu::BindingResource<'_>],
 ) -> wgpu::BindGroup {
+    let numbered: Vec<(u32, wgpu::BindingResource)> =
+        resources.iter().enumerate().map(|(i, resource)| (i as u32, resource.clone())).collect();
+    bind_group_at(gpu, label, pipeline, group, &numbered)
+}
+
+/// Binds each `(binding, resource)` of group `group` of a pipeline with a derived layout (for
+/// entry points that leave some of a module's bindings unused).
+pub fn bind_group_at(
+    gpu: &Gpu,
+    label: &str,
+    pipeline: &wgpu::RenderPipeline,
+    group: u32,
+    resources: &[(u32, wgpu::BindingResource<'_>)],
+) -> wgpu::BindGroup {
     let entries: Vec<wgpu::BindGroupEntry> = resources
         .iter()
-        .enumerate()
-        .map(|(i, resource)| wgpu::BindGroupEntry { binding: i as u32, resource: resource.clone() })
+        .map(|(binding, resource)| wgpu::BindGroupEntry { binding: *binding, resource: resource.clone() })
         .collect();
     gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some(label),

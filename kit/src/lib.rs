@@ -5,6 +5,8 @@
 
 pub mod attachments;
 pub mod caps;
+pub mod cps;
+pub mod deferred;
 pub mod fullscreen;
 pub mod gpu;
 pub mod harness;
@@ -15,5 +17,6 @@ pub mod readback;
 pub mod rects;
 pub mod scene;
 pub mod shaders;
+pub mod tonemap;
 
 pub use gpu::{AdapterSelector, Gpu};

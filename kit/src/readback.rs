@@ -50,6 +50,15 @@ impl Texels {
         self.bytes.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect()
     }
 
+    /// The top-left `width` × `height` texels (mip chains are padded beyond the data).
+    pub fn crop(&self, width: u32, height: u32) -> Texels {
+        let row = (width * self.bytes_per_texel) as usize;
+        let stride = (self.width * self.bytes_per_texel) as usize;
+        let bytes =
+            (0..height as usize).flat_map(|y| self.bytes[y * stride..y * stride + row].iter().copied()).collect();
+        Texels { width, height, bytes_per_texel: self.bytes_per_texel, bytes }
+    }
+
     /// Interprets the texels as `f16` components (`Rgba16Float`, ...).
     pub fn as_f16(&self) -> Vec<f32> {
         self.bytes.chunks_exact(2).map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32()).collect()

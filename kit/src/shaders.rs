@@ -7,6 +7,7 @@ use crate::gpu::Gpu;
 pub const COMMON: &[(&str, &str)] = &[
     ("common/fullscreen.wgsl", include_str!("../../shaders/common/fullscreen.wgsl")),
     ("common/hash.wgsl", include_str!("../../shaders/common/hash.wgsl")),
+    ("common/lighting.wgsl", include_str!("../../shaders/common/lighting.wgsl")),
 ];
 
 /// One pass's shader file, named by its path under `shaders/`.
@@ -33,6 +34,18 @@ shader_files! {
     HEAVY_SHADING => "kit/heavy_shading.wgsl",
     FRAGMENT_COUNTER => "kit/fragment_counter.wgsl",
     NOISE_TRIANGLES => "kit/noise_triangles.wgsl",
+    GBUFFER => "deferred/gbuffer.wgsl",
+    DEFERRED_LIGHTING => "deferred/lighting.wgsl",
+    CPS_LOD_FOVEATED => "cps/lod_foveated.wgsl",
+    CPS_EDGE_MASK => "cps/edge_mask.wgsl",
+    CPS_LOD_CONTENT => "cps/lod_content.wgsl",
+    CPS_LOD_PRESENT => "cps/lod_present.wgsl",
+    CPS_MASK_REDUCE => "cps/mask_reduce.wgsl",
+    CPS_STENCIL_MARK => "cps/stencil_mark.wgsl",
+    CPS_LIGHTING => "cps/lighting.wgsl",
+    CPS_FILL_PULL => "cps/fill_pull.wgsl",
+    CPS_FILL_PUSH => "cps/fill_push.wgsl",
+    CPS_COMPOSITE => "cps/composite.wgsl",
 }
 
 impl ShaderFile {

@@ -3,3 +3,18 @@ fn fullscreen_clip_position(vertex_index: u32) -> vec4f {
     let uv = vec2f(f32((vertex_index << 1u) & 2u), f32(vertex_index & 2u));
     return vec4f(uv * 2.0 - 1.0, 0.0, 1.0);
 }
+
+// Bilinear interpolation of mip `level` at continuous texel coordinate `at` (texel centres at
+// integers), clamped to the texels 0..=last that hold data (mip chains are padded); by loads,
+// so it is exact and filter-free.
+fn bilinear_load(image: texture_2d<f32>, level: u32, at: vec2f, last: vec2i) -> vec4f {
+    let base = floor(at);
+    let f = at - base;
+    let t0 = clamp(vec2i(base), vec2i(0), last);
+    let t1 = clamp(vec2i(base) + 1, vec2i(0), last);
+    let a = textureLoad(image, vec2i(t0.x, t0.y), level);
+    let b = textureLoad(image, vec2i(t1.x, t0.y), level);
+    let c = textureLoad(image, vec2i(t0.x, t1.y), level);
+    let d = textureLoad(image, vec2i(t1.x, t1.y), level);
+    return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
+}

@@ -1,0 +1,15 @@
+//! Coarse pixel shading through a stencil pyramid: an LOD buffer beside the G-buffer, a stencil
+//! per level built from an OR-reduced "LOD-present" bitmask pyramid, per-level lighting of a
+//! mipmapped target behind a stencil-Equal test, and a composite (nearest, the original
+//! 4-neighbour interpolation, or our seam-free reconstruction).
+
+pub mod config;
+pub mod pictures;
+pub mod plan;
+pub mod reference;
+pub mod renderer;
+pub mod targets;
+
+pub use config::{CompositeMode, CpsConfig, LodPolicy, MAX_LEVEL};
+pub use plan::Plan;
+pub use renderer::{CpsOutput, CpsRenderer};

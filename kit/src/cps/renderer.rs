@@ -1,0 +1,537 @@
+//! The CPS frame: LOD buffer → LOD-present mask pyramid → stencil pyramid → per-level lighting
+//! behind stencil Equal → (fill pyramid) → composite. Targets and pipelines are made once per
+//! renderer; `render` records one frame in one encoder with a timestamp pair around every pass
+//! and an occlusion query around every level's lighting draw.
+
+use anyhow::{Context, Result};
+use glam::Vec3;
+
+use super::config::{CompositeMode, CpsConfig, LodPolicy};
+use super::plan::Plan;
+use super::targets::MipChain;
+use crate::deferred::gbuffer::Gbuffer;
+use crate::deferred::lighting::{HDR, shading_uniform};
+use crate::deferred::lights::LightTexture;
+use crate::fullscreen::{FullscreenPipeline, bind_group, bind_group_at, uniform_buffer};
+use crate::gpu::Gpu;
+use crate::query::{GpuTimer, OcclusionQueries, PassTime};
+use crate::shaders;
+
+const LOD: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
+const MASK: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+const STENCIL: wgpu::TextureFormat = wgpu::TextureFormat::Stencil8;
+
+/// One frame's inputs.
+pub struct CpsFrame<'a> {
+    pub gbuffer: &'a Gbuffer,
+    pub lights: &'a LightTexture,
+    pub eye: Vec3,
+}
+
+/// One frame's results; the textures stay owned by the renderer.
+pub struct CpsOutput {
+    /// Coarse texels shaded per level (occlusion counts; booleans on GL).
+    pub shaded_texels: Vec<u64>,
+    /// Every pass, in order, with its GPU time (empty without timestamps).
+    pub pass_times: Vec<PassTime>,
+}
+
+impl CpsOutput {
+    /// GPU time of the passes whose label starts with `prefix` ("" for all).
+    pub fn gpu_ms(&self, prefix: &str) -> f64 {
+        self.pass_times.iter().filter(|t| t.label.starts_with(prefix)).map(|t| t.ms).sum()
+    }
+}
+
+fn stencil8(compare: wgpu::CompareFunction, pass_op: wgpu::StencilOperation) -> wgpu::DepthStencilState {
+    let face = wgpu::StencilFaceState {
+        compare,
+        fail_op: wgpu::StencilOperation::Keep,
+        depth_fail_op: wgpu::StencilOperation::Keep,
+        pass_op,
+    };
+    wgpu::DepthStencilState {
+        format: STENCIL,
+        depth_write_enabled: None,
+        depth_compare: None,
+        stencil: wgpu::StencilState { front: face, back: face, read_mask: 0xff, write_mask: 0xff },
+        bias: Default::default(),
+    }
+}
+
+fn target_usage() -> wgpu::TextureUsages {
+    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC
+}
+
+/// Colour and stencil attachments of one pass; `viewport` limits drawing to the texels in use.
+struct PassTargets<'a> {
+    colour: Option<&'a wgpu::TextureView>,
+    stencil: Option<(&'a wgpu::TextureView, wgpu::LoadOp<u32>)>,
+    viewport: (u32, u32),
+}
+
+fn begin<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    targets: PassTargets<'_>,
+    timer: &mut GpuTimer,
+    queries: Option<&wgpu::QuerySet>,
+) -> wgpu::RenderPass<'e> {
+    let colour =
+        targets.colour.map(|view| crate::attachments::colour(view, None, wgpu::Color::TRANSPARENT)).unwrap_or(None);
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[colour],
+        depth_stencil_attachment: targets.stencil.map(|(view, load)| wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: None,
+            stencil_ops: Some(wgpu::Operations { load, store: wgpu::StoreOp::Store }),
+        }),
+        timestamp_writes: timer.pass(label),
+        occlusion_query_set: queries,
+        multiview_mask: None,
+    });
+    pass.set_viewport(0.0, 0.0, targets.viewport.0 as f32, targets.viewport.1 as f32, 0.0, 1.0);
+    pass
+}
+
+pub struct CpsRenderer {
+    pub config: CpsConfig,
+    pub plan: Plan,
+    /// LOD per pixel (`R8Uint`, screen-sized).
+    pub lod: wgpu::Texture,
+    lod_view: wgpu::TextureView,
+    /// OR-reduced edge flags (content policy only).
+    pub edges: Option<MipChain>,
+    /// OR-reduced LOD-present bits: bit l of mip l texel q = some pixel of q's block has LOD l.
+    pub mask: MipChain,
+    pub stencil: MipChain,
+    /// Lit levels; alpha 1 marks a shaded texel.
+    pub lit: MipChain,
+    /// Pull and push stages of the fill pyramid (seam-free composite only).
+    pub fill: Option<(MipChain, MipChain)>,
+    /// The composite (`Rgba16Float`, screen-sized).
+    pub image: wgpu::Texture,
+    /// Indirect draw arguments of each level's lighting draw.
+    level_draws: wgpu::Buffer,
+    level_uniforms: Vec<wgpu::Buffer>,
+    lod_pipeline: Option<wgpu::RenderPipeline>,
+    edge_pipeline: Option<wgpu::RenderPipeline>,
+    reduce_pipeline: wgpu::RenderPipeline,
+    present_pipeline: wgpu::RenderPipeline,
+    mark_pipeline: wgpu::RenderPipeline,
+    light_pipeline: wgpu::RenderPipeline,
+    fill_pipelines: Option<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
+    composite_pipeline: wgpu::RenderPipeline,
+}
+
+impl CpsRenderer {
+    pub fn new(gpu: &Gpu, screen: (u32, u32), config: CpsConfig) -> Result<Self> {
+        let plan = Plan::new(gpu, screen, &config)?;
+        let levels = plan.levels();
+        let lod = gpu.texture("lod", screen, LOD, 1, target_usage() | wgpu::TextureUsages::COPY_DST);
+        let chain = |label, format| MipChain::new(gpu, label, plan.padded, levels, format, target_usage());
+        // The fill pyramid's ends are copies of lit levels.
+        let fill_chain =
+            |label| MipChain::new(gpu, label, plan.padded, levels, HDR, target_usage() | wgpu::TextureUsages::COPY_DST);
+        let fullscreen = |label: &'static str,
+                          fragment,
+                          entry_point: &'static str,
+                          format: Option<wgpu::TextureFormat>,
+                          depth_stencil| {
+            FullscreenPipeline {
+                label,
+                fragment,
+                entry_point,
+                targets: &[format.map(Into::into)],
+                depth_stencil,
+                samples: 1,
+            }
+            .create(gpu)
+        };
+        let (lod_pipeline, edge_pipeline) = match &config.policy {
+            LodPolicy::Foveated { .. } => {
+                (Some(fullscreen("foveated lod", shaders::CPS_LOD_FOVEATED, "fs_lod_foveated", Some(LOD), None)), None)
+            }
+            LodPolicy::Content { .. } => (
+                Some(fullscreen("content lod", shaders::CPS_LOD_CONTENT, "fs_lod_content", Some(LOD), None)),
+                Some(fullscreen("edge mask", shaders::CPS_EDGE_MASK, "fs_edge_mask", Some(MASK), None)),
+            ),
+            LodPolicy::Explicit(_) => (None, None),
+        };
+        let present_entry = if plan.skip_absent_levels_on_gpu { "fs_lod_present_and_count" } else { "fs_lod_present" };
+        let fill_pipelines = plan.fill_pyramid.then(|| {
+            (
+                fullscreen("fill pull", shaders::CPS_FILL_PULL, "fs_fill_pull", Some(HDR), None),
+                fullscreen("fill push", shaders::CPS_FILL_PUSH, "fs_fill_push", Some(HDR), None),
+            )
+        });
+        let level_draws = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("level draws"),
+            size: 16 * 9,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Ok(Self {
+            lod_view: lod.create_view(&Default::default()),
+            lod,
+            edges: plan.edge_pyramid.then(|| chain("edge pyramid", MASK)),
+            mask: chain("lod-present pyramid", MASK),
+            stencil: chain("stencil pyramid", STENCIL),
+            lit: chain("lit levels", HDR),
+            fill: plan.fill_pyramid.then(|| (fill_chain("fill pull"), fill_chain("fill push"))),
+            image: gpu.texture("cps composite", screen, HDR, 1, target_usage()),
+            level_draws,
+            level_uniforms: (0..levels)
+                .map(|level| uniform_buffer(gpu, "level", bytemuck::cast_slice(&[level, 0, 0, 0])))
+                .collect(),
+            lod_pipeline,
+            edge_pipeline,
+            reduce_pipeline: fullscreen("mask reduce", shaders::CPS_MASK_REDUCE, "fs_mask_reduce", Some(MASK), None),
+            present_pipeline: fullscreen("lod present", shaders::CPS_LOD_PRESENT, present_entry, Some(MASK), None),
+            mark_pipeline: fullscreen(
+                "stencil mark",
+                shaders::CPS_STENCIL_MARK,
+                "fs_stencil_mark",
+                None,
+                Some(stencil8(wgpu::CompareFunction::Always, wgpu::StencilOperation::Replace)),
+            ),
+            light_pipeline: fullscreen(
+                "light level",
+                shaders::CPS_LIGHTING,
+                "fs_light_level",
+                Some(HDR),
+                Some(stencil8(wgpu::CompareFunction::Equal, wgpu::StencilOperation::Keep)),
+            ),
+            fill_pipelines,
+            composite_pipeline: fullscreen(
+                "composite",
+                shaders::CPS_COMPOSITE,
+                config.composite.entry_point(),
+                Some(HDR),
+                None,
+            ),
+            config,
+            plan,
+        })
+    }
+
+    /// Records and runs one frame; waits for its queries.
+    pub fn render(&self, gpu: &Gpu, frame: &CpsFrame) -> Result<CpsOutput> {
+        anyhow::ensure!(
+            frame.gbuffer.size == self.plan.screen,
+            "G-buffer is {:?}, the renderer was planned for {:?}",
+            frame.gbuffer.size,
+            self.plan.screen
+        );
+        let levels = self.plan.levels();
+        let mut timer = GpuTimer::new(gpu, 4 * levels + 8);
+        let queries = OcclusionQueries::new(gpu, levels);
+        let draws: Vec<[u32; 4]> = (0..9).map(|_| [3, u32::from(!self.plan.skip_absent_levels_on_gpu), 0, 0]).collect();
+        gpu.queue.write_buffer(&self.level_draws, 0, bytemuck::cast_slice(&draws));
+        if let LodPolicy::Explicit(values) = &self.config.policy {
+            gpu.queue.write_texture(
+                self.lod.as_image_copy(),
+                values,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(self.plan.screen.0),
+                    rows_per_image: None,
+                },
+                self.lod.size(),
+            );
+        }
+        let mut encoder = gpu.encoder("cps frame");
+        self.record_lod(gpu, &mut encoder, frame, &mut timer);
+        self.record_stencil_pyramid(gpu, &mut encoder, &mut timer);
+        self.record_lighting(gpu, &mut encoder, frame, &mut timer, &queries);
+        self.record_fill(gpu, &mut encoder, &mut timer);
+        self.record_composite(gpu, &mut encoder, &mut timer);
+        queries.resolve(&mut encoder);
+        timer.resolve(&mut encoder);
+        gpu.submit(encoder);
+        let shaded_texels = queries.read(gpu).context("reading per-level shaded counts")?;
+        Ok(CpsOutput { shaded_texels, pass_times: timer.read(gpu)? })
+    }
+
+    /// Reduces `chain` from mip 1 to the top: texel q ORs its 2×2 children.
+    fn record_reduce(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        chain: &MipChain,
+        name: &str,
+        timer: &mut GpuTimer,
+    ) {
+        for level in 1..self.plan.levels() as usize {
+            let group = bind_group(
+                gpu,
+                name,
+                &self.reduce_pipeline,
+                0,
+                &[wgpu::BindingResource::TextureView(&chain.level_views[level - 1])],
+            );
+            let targets = PassTargets {
+                colour: Some(&chain.level_views[level]),
+                stencil: None,
+                viewport: self.plan.level_extents[level],
+            };
+            let mut pass = begin(encoder, &format!("{name} {level}"), targets, timer, None);
+            pass.set_pipeline(&self.reduce_pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            pass.draw(0..3, 0..1);
+        }
+    }
+
+    fn record_lod(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, frame: &CpsFrame, timer: &mut GpuTimer) {
+        let screen = self.plan.screen;
+        let top = self.plan.top_level;
+        let lod_targets = || PassTargets { colour: Some(&self.lod_view), stencil: None, viewport: screen };
+        match (&self.config.policy, &self.lod_pipeline) {
+            (LodPolicy::Foveated { focus, inner_radius }, Some(pipeline)) => {
+                let words = [
+                    (focus.0 * screen.0 as f32).to_bits(),
+                    (focus.1 * screen.1 as f32).to_bits(),
+                    inner_radius.to_bits(),
+                    top,
+                ];
+                let uniform = uniform_buffer(gpu, "foveation", bytemuck::cast_slice(&words));
+                let group = bind_group(gpu, "foveation", pipeline, 0, &[uniform.as_entire_binding()]);
+                let mut pass = begin(encoder, "lod", lod_targets(), timer, None);
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &group, &[]);
+                pass.draw(0..3, 0..1);
+            }
+            (LodPolicy::Content { normal_cos, depth_ratio }, Some(pipeline)) => {
+                let (edges, edge_pipeline) =
+                    (self.edges.as_ref().expect("planned"), self.edge_pipeline.as_ref().expect("planned"));
+                let thresholds = uniform_buffer(
+                    gpu,
+                    "edge thresholds",
+                    bytemuck::cast_slice(&[*normal_cos, *depth_ratio, 0.0, 0.0]),
+                );
+                let depth = frame.gbuffer.depth.create_view(&Default::default());
+                let [position, normal, _] = &frame.gbuffer.views;
+                let group = bind_group(
+                    gpu,
+                    "edge mask",
+                    edge_pipeline,
+                    0,
+                    &[
+                        thresholds.as_entire_binding(),
+                        wgpu::BindingResource::TextureView(position),
+                        wgpu::BindingResource::TextureView(normal),
+                        wgpu::BindingResource::TextureView(&depth),
+                    ],
+                );
+                {
+                    let targets = PassTargets { colour: Some(&edges.level_views[0]), stencil: None, viewport: screen };
+                    let mut pass = begin(encoder, "edges 0", targets, timer, None);
+                    pass.set_pipeline(edge_pipeline);
+                    pass.set_bind_group(0, &group, &[]);
+                    pass.draw(0..3, 0..1);
+                }
+                self.record_reduce(gpu, encoder, edges, "edges", timer);
+                let uniform = uniform_buffer(gpu, "content lod", bytemuck::cast_slice(&[top, 0, 0, 0]));
+                let group = bind_group(
+                    gpu,
+                    "content lod",
+                    pipeline,
+                    0,
+                    &[uniform.as_entire_binding(), wgpu::BindingResource::TextureView(&edges.all)],
+                );
+                let mut pass = begin(encoder, "lod", lod_targets(), timer, None);
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &group, &[]);
+                pass.draw(0..3, 0..1);
+            }
+            // Explicit LOD was uploaded before the encoder.
+            _ => {}
+        }
+    }
+
+    fn record_stencil_pyramid(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
+        let range = uniform_buffer(gpu, "lod range", bytemuck::cast_slice(&[self.plan.top_level, 0, 0, 0]));
+        let group = bind_group(
+            gpu,
+            "lod present",
+            &self.present_pipeline,
+            0,
+            &[range.as_entire_binding(), wgpu::BindingResource::TextureView(&self.lod_view)],
+        );
+        let counts = self.plan.skip_absent_levels_on_gpu.then(|| {
+            bind_group(gpu, "level draws", &self.present_pipeline, 1, &[self.level_draws.as_entire_binding()])
+        });
+        {
+            let targets =
+                PassTargets { colour: Some(&self.mask.level_views[0]), stencil: None, viewport: self.plan.screen };
+            let mut pass = begin(encoder, "mask 0", targets, timer, None);
+            pass.set_pipeline(&self.present_pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            if let Some(counts) = &counts {
+                pass.set_bind_group(1, counts, &[]);
+            }
+            pass.draw(0..3, 0..1);
+        }
+        self.record_reduce(gpu, encoder, &self.mask, "mask", timer);
+        for level in 0..self.plan.levels() as usize {
+            let group = bind_group(
+                gpu,
+                "stencil mark",
+                &self.mark_pipeline,
+                0,
+                &[
+                    self.level_uniforms[level].as_entire_binding(),
+                    wgpu::BindingResource::TextureView(&self.mask.level_views[level]),
+                ],
+            );
+            let targets = PassTargets {
+                colour: None,
+                stencil: Some((&self.stencil.level_views[level], wgpu::LoadOp::Clear(0))),
+                viewport: self.plan.level_extents[level],
+            };
+            let mut pass = begin(encoder, &format!("stencil {level}"), targets, timer, None);
+            pass.set_pipeline(&self.mark_pipeline);
+            pass.set_stencil_reference(1);
+            pass.set_bind_group(0, &group, &[]);
+            pass.draw(0..3, 0..1);
+        }
+    }
+
+    fn record_lighting(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &CpsFrame,
+        timer: &mut GpuTimer,
+        queries: &OcclusionQueries,
+    ) {
+        let shading = shading_uniform(gpu, frame.eye, frame.lights.count);
+        let [position, normal, albedo] = &frame.gbuffer.views;
+        let inputs = bind_group(
+            gpu,
+            "light inputs",
+            &self.light_pipeline,
+            0,
+            &[
+                shading.as_entire_binding(),
+                wgpu::BindingResource::TextureView(position),
+                wgpu::BindingResource::TextureView(normal),
+                wgpu::BindingResource::TextureView(albedo),
+                wgpu::BindingResource::TextureView(&frame.lights.view),
+            ],
+        );
+        for level in 0..self.plan.levels() as usize {
+            let group = bind_group(
+                gpu,
+                "light level",
+                &self.light_pipeline,
+                1,
+                &[self.level_uniforms[level].as_entire_binding()],
+            );
+            let targets = PassTargets {
+                colour: Some(&self.lit.level_views[level]),
+                stencil: Some((&self.stencil.level_views[level], wgpu::LoadOp::Load)),
+                viewport: self.plan.level_extents[level],
+            };
+            let mut pass = begin(encoder, &format!("light {level}"), targets, timer, Some(queries.set()));
+            pass.set_pipeline(&self.light_pipeline);
+            pass.set_stencil_reference(1);
+            pass.set_bind_group(0, &inputs, &[]);
+            pass.set_bind_group(1, &group, &[]);
+            pass.begin_occlusion_query(level as u32);
+            pass.draw_indirect(&self.level_draws, 16 * level as u64);
+            pass.end_occlusion_query();
+        }
+    }
+
+    fn record_fill(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
+        let (Some((pulled, filled)), Some((pull, push))) = (&self.fill, &self.fill_pipelines) else { return };
+        let top = self.plan.top_level;
+        let copy_level = |encoder: &mut wgpu::CommandEncoder, from: &MipChain, to: &MipChain, level: u32| {
+            let (width, height) = self.plan.level_extents[level as usize];
+            encoder.copy_texture_to_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &from.texture,
+                    mip_level: level,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyTextureInfo {
+                    texture: &to.texture,
+                    mip_level: level,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            );
+        };
+        copy_level(encoder, &self.lit, pulled, 0);
+        for level in 1..=top as usize {
+            let group = bind_group(
+                gpu,
+                "fill pull",
+                pull,
+                0,
+                &[
+                    wgpu::BindingResource::TextureView(&self.lit.level_views[level]),
+                    wgpu::BindingResource::TextureView(&pulled.level_views[level - 1]),
+                ],
+            );
+            let targets = PassTargets {
+                colour: Some(&pulled.level_views[level]),
+                stencil: None,
+                viewport: self.plan.level_extents[level],
+            };
+            let mut pass = begin(encoder, &format!("pull {level}"), targets, timer, None);
+            pass.set_pipeline(pull);
+            pass.set_bind_group(0, &group, &[]);
+            pass.draw(0..3, 0..1);
+        }
+        copy_level(encoder, pulled, filled, top);
+        for level in (0..top as usize).rev() {
+            let (w, h) = self.plan.level_extents[level + 1];
+            let extent = uniform_buffer(gpu, "coarser extent", bytemuck::cast_slice(&[w - 1, h - 1, 0, 0]));
+            let group = bind_group(
+                gpu,
+                "fill push",
+                push,
+                0,
+                &[
+                    wgpu::BindingResource::TextureView(&pulled.level_views[level]),
+                    wgpu::BindingResource::TextureView(&filled.level_views[level + 1]),
+                    extent.as_entire_binding(),
+                ],
+            );
+            let targets = PassTargets {
+                colour: Some(&filled.level_views[level]),
+                stencil: None,
+                viewport: self.plan.level_extents[level],
+            };
+            let mut pass = begin(encoder, &format!("push {level}"), targets, timer, None);
+            pass.set_pipeline(push);
+            pass.set_bind_group(0, &group, &[]);
+            pass.draw(0..3, 0..1);
+        }
+    }
+
+    fn record_composite(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
+        let (w, h) = self.plan.screen;
+        let uniform = uniform_buffer(gpu, "composite", bytemuck::cast_slice(&[self.plan.top_level, 0, w, h]));
+        let mut resources =
+            vec![(0, uniform.as_entire_binding()), (1, wgpu::BindingResource::TextureView(&self.lod_view))];
+        match (self.config.composite, &self.fill) {
+            (CompositeMode::SeamFree, Some((_, filled))) => {
+                resources.push((3, wgpu::BindingResource::TextureView(&filled.all)))
+            }
+            _ => resources.push((2, wgpu::BindingResource::TextureView(&self.lit.all))),
+        }
+        let group = bind_group_at(gpu, "composite", &self.composite_pipeline, 0, &resources);
+        let view = self.image.create_view(&Default::default());
+        let targets = PassTargets { colour: Some(&view), stencil: None, viewport: self.plan.screen };
+        let mut pass = begin(encoder, "composite", targets, timer, None);
+        pass.set_pipeline(&self.composite_pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
