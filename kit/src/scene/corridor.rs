@@ -64,7 +64,8 @@ fn push_box(vertices: &mut Vec<SceneVertex>, centre: Vec3, half: Vec3, yaw: f32,
     let rotation = Mat4::from_rotation_y(yaw);
     let corner = |sx: f32, sy: f32, sz: f32| centre + rotation.transform_vector3(half * Vec3::new(sx, sy, sz));
     // Each face: outward normal (before rotation) and its four corners counter-clockwise seen from outside.
-    let faces: [(Vec3, [(f32, f32, f32); 4]); 6] = [
+    type Face = (Vec3, [(f32, f32, f32); 4]);
+    let faces: [Face; 6] = [
         (Vec3::X, [(1., -1., 1.), (1., -1., -1.), (1., 1., -1.), (1., 1., 1.)]),
         (Vec3::NEG_X, [(-1., -1., -1.), (-1., -1., 1.), (-1., 1., 1.), (-1., 1., -1.)]),
         (Vec3::Y, [(-1., 1., 1.), (1., 1., 1.), (1., 1., -1.), (-1., 1., -1.)]),
