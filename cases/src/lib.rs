@@ -3,6 +3,7 @@
 
 use fragkit::harness::Case;
 
+pub mod cps;
 pub mod kit;
 
 /// Every case, in the order `fragkit check` runs them.
@@ -16,4 +17,9 @@ pub const ALL: &[Case] = &[
     kit::scissor_msaa::CASE,
     kit::early_rejection::CASE,
     kit::determinism::CASE,
+    cps::stencil_equal_counts::CASE,
+    cps::all_fine_equals_fullres::CASE,
+    cps::composite_matches_reference::CASE,
+    cps::early_rejection::CASE,
+    cps::extremes::CASE,
 ];

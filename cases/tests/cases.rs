@@ -7,7 +7,7 @@ mod support;
 use fragkit::harness::report::CaseRecord;
 
 /// Metrics that are timings: they vary run to run and stay out of snapshots.
-const TIMING_METRICS: &[&str] = &["equal_ms", "always_ms", "time_ratio"];
+const TIMING_METRICS: &[&str] = &["equal_ms", "always_ms", "time_ratio", "level0_ms", "foveated_levels"];
 
 fn check(name: &str) {
     let (record, slug) = support::run(name);
@@ -62,4 +62,9 @@ case_tests! {
     kit_scissor_msaa => "kit.scissor.msaa",
     kit_early_rejection => "kit.early_rejection",
     kit_determinism => "kit.determinism",
+    cps_stencil_equal_counts => "cps.stencil_equal.counts",
+    cps_all_fine_equals_fullres => "cps.all_fine_equals_fullres",
+    cps_composite_matches_reference => "cps.composite.matches_reference",
+    cps_early_rejection => "cps.early_rejection",
+    cps_extremes => "cps.extremes",
 }

@@ -6,15 +6,16 @@ fn fullscreen_clip_position(vertex_index: u32) -> vec4f {
 
 // Bilinear interpolation of mip `level` at continuous texel coordinate `at` (texel centres at
 // integers), clamped to the texels 0..=last that hold data (mip chains are padded); by loads,
-// so it is exact and filter-free.
+// so it is exact and filter-free. Levels are passed to textureLoad as i32: naga's GLSL output
+// bounds-checks loads with textureSize(image, level), which GLSL only has for int levels.
 fn bilinear_load(image: texture_2d<f32>, level: u32, at: vec2f, last: vec2i) -> vec4f {
     let base = floor(at);
     let f = at - base;
     let t0 = clamp(vec2i(base), vec2i(0), last);
     let t1 = clamp(vec2i(base) + 1, vec2i(0), last);
-    let a = textureLoad(image, vec2i(t0.x, t0.y), level);
-    let b = textureLoad(image, vec2i(t1.x, t0.y), level);
-    let c = textureLoad(image, vec2i(t0.x, t1.y), level);
-    let d = textureLoad(image, vec2i(t1.x, t1.y), level);
+    let a = textureLoad(image, vec2i(t0.x, t0.y), i32(level));
+    let b = textureLoad(image, vec2i(t1.x, t0.y), i32(level));
+    let c = textureLoad(image, vec2i(t0.x, t1.y), i32(level));
+    let d = textureLoad(image, vec2i(t1.x, t1.y), i32(level));
     return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
 }

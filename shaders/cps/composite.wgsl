@@ -1,9 +1,11 @@
-// Composite: every pixel takes its colour from the lit mip its LOD names. Three modes:
-// nearest (plain CPS), the original method's 4-neighbour interpolation, and our seam-free
-// bilinear reconstruction over the pull-push filled pyramid.
+// Composite: every pixel takes its colour from the lit levels. Three modes: nearest (plain CPS:
+// the pixel's own coarse texel), the original method's 4-neighbour interpolation, and our
+// seam-free trilinear reconstruction over the pull-push filled pyramid.
 
 struct Composite {
     max_level: u32,
+    // Seam-free mode: the level whose blocks carry the smooth level field.
+    transition_level: u32,
     screen: vec2u,
 }
 
@@ -20,7 +22,7 @@ fn level_of(pixel: vec2i) -> u32 {
 fn coarse_colour(pixel: vec2i) -> vec4f {
     let clamped = vec2u(clamp(pixel, vec2i(0), vec2i(composite.screen) - 1));
     let level = level_of(pixel);
-    return textureLoad(lit, clamped >> vec2u(level), level);
+    return textureLoad(lit, clamped >> vec2u(level), i32(level));
 }
 
 // The pixel just outside the coarse fragment holding `pixel`, along `axis` (0 = x, 1 = y), on the
@@ -61,16 +63,43 @@ fn fs_composite_four_neighbour(@builtin(position) position: vec4f) -> @location(
 }
 
 @group(0) @binding(3) var filled: texture_2d<f32>;
+@group(0) @binding(4) var mask: texture_2d<u32>;
 
-// Ours: bilinear interpolation of the filled pyramid at the pixel's own level. Every texel it
-// reads holds shading (own, pulled from finer or pushed from coarser), so there is no jump where
-// the level changes: across a boundary both sides blend the same neighbouring shading.
+// Texels of `level` that hold data: ceil(screen / 2^level).
+fn level_last(level: u32) -> vec2i {
+    let size = 1u << level;
+    return vec2i((composite.screen + size - 1u) / size) - 1;
+}
+
+fn filled_at(p: vec2i, level: u32) -> vec4f {
+    let at = (vec2f(p) + 0.5) / f32(1u << level) - 0.5;
+    return bilinear_load(filled, level, at, level_last(level));
+}
+
+// The finest level present in texel t of the mask pyramid's transition level.
+fn finest_present(t: vec2i) -> f32 {
+    let last = level_last(composite.transition_level);
+    let clamped = clamp(t, vec2i(0), last);
+    return f32(firstTrailingBit(textureLoad(mask, clamped, i32(composite.transition_level)).x));
+}
+
+// Ours: a smooth level field, the finest level present per 2^k block (k = the transition level)
+// interpolated bilinearly between blocks, selects a trilinear blend of the filled pyramid. Every
+// texel read holds shading (own, pulled from finer or pushed from coarser) and the field changes
+// gradually, so no step appears where the LOD changes.
 @fragment
 fn fs_composite_seam_free(@builtin(position) position: vec4f) -> @location(0) vec4f {
     let p = vec2i(position.xy);
-    let level = level_of(p);
-    let size = 1u << level;
-    let last = vec2i((composite.screen + size - 1u) / size) - 1;
-    let at = (vec2f(p) + 0.5) / f32(size) - 0.5;
-    return vec4f(bilinear_load(filled, level, at, last).rgb, 1.0);
+    let at = (vec2f(p) + 0.5) / f32(1u << composite.transition_level) - 0.5;
+    let base = floor(at);
+    let f = at - base;
+    let t = vec2i(base);
+    let field = mix(
+        mix(finest_present(t), finest_present(t + vec2i(1, 0)), f.x),
+        mix(finest_present(t + vec2i(0, 1)), finest_present(t + vec2i(1, 1)), f.x),
+        f.y,
+    );
+    let fine = min(u32(floor(field)), composite.max_level);
+    let coarse = min(fine + 1u, composite.max_level);
+    return vec4f(mix(filled_at(p, fine), filled_at(p, coarse), field - floor(field)).rgb, 1.0);
 }

@@ -1,20 +1,21 @@
 // Content LOD policy, step 1: marks pixels on a geometric discontinuity. A pixel is an edge
-// where its surface coverage, its normal (angle beyond `normal_cos`) or its depth (relative jump
-// beyond `depth_ratio`) differs from its right or lower neighbour's.
+// where its surface coverage, its normal (angle beyond `normal_cos`) or its position (a jump
+// beyond `depth_ratio` times its distance from the eye) differs from its right or lower
+// neighbour's. Positions rather than the depth buffer: GLSL cannot load from depth textures.
 
 struct EdgeThresholds {
+    eye: vec3f,
     normal_cos: f32,
     depth_ratio: f32,
 }
 
 @group(0) @binding(0) var<uniform> thresholds: EdgeThresholds;
-@group(0) @binding(1) var gbuffer_position: texture_2d<f32>;
+@group(0) @binding(1) var gbuffer_position: texture_2d<u32>;
 @group(0) @binding(2) var gbuffer_normal: texture_2d<f32>;
-@group(0) @binding(3) var gbuffer_depth: texture_depth_2d;
 
 fn differs(a: vec2u, b: vec2u) -> bool {
-    let pa = textureLoad(gbuffer_position, a, 0);
-    let pb = textureLoad(gbuffer_position, b, 0);
+    let pa = bitcast<vec4f>(textureLoad(gbuffer_position, a, 0));
+    let pb = bitcast<vec4f>(textureLoad(gbuffer_position, b, 0));
     if pa.w != pb.w {
         return true;
     }
@@ -23,9 +24,7 @@ fn differs(a: vec2u, b: vec2u) -> bool {
     }
     let na = textureLoad(gbuffer_normal, a, 0).xyz;
     let nb = textureLoad(gbuffer_normal, b, 0).xyz;
-    let da = textureLoad(gbuffer_depth, a, 0);
-    let db = textureLoad(gbuffer_depth, b, 0);
-    let depth_jump = abs(da - db) > thresholds.depth_ratio * max(1.0 - max(da, db), 1e-6);
+    let depth_jump = distance(pa.xyz, pb.xyz) > thresholds.depth_ratio * distance(pa.xyz, thresholds.eye);
     return dot(na, nb) < thresholds.normal_cos || depth_jump;
 }
 

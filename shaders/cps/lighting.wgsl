@@ -13,7 +13,7 @@ struct Level {
 }
 
 @group(0) @binding(0) var<uniform> shading: Shading;
-@group(0) @binding(1) var gbuffer_position: texture_2d<f32>;
+@group(0) @binding(1) var gbuffer_position: texture_2d<u32>;
 @group(0) @binding(2) var gbuffer_normal: texture_2d<f32>;
 @group(0) @binding(3) var gbuffer_albedo: texture_2d<f32>;
 @group(0) @binding(4) var lights: texture_2d<f32>;
@@ -25,7 +25,7 @@ fn fs_light_level(@builtin(position) position: vec4f) -> @location(0) vec4f {
     let block = 1u << target_level.level;
     let pixel = min(q * block + vec2u(block / 2u), textureDimensions(gbuffer_position) - 1u);
     let colour = shade_sample(
-        textureLoad(gbuffer_position, pixel, 0),
+        bitcast<vec4f>(textureLoad(gbuffer_position, pixel, 0)),
         textureLoad(gbuffer_normal, pixel, 0),
         textureLoad(gbuffer_albedo, pixel, 0),
         shading.eye,

@@ -13,7 +13,7 @@ fn fs_lod_content(@builtin(position) position: vec4f) -> @location(0) u32 {
     let pixel = vec2u(position.xy);
     var level = 0u;
     for (var l = 1u; l <= content.max_level; l++) {
-        if textureLoad(edge_pyramid, pixel >> vec2u(l), l).x != 0u {
+        if textureLoad(edge_pyramid, pixel >> vec2u(l), i32(l)).x != 0u {
             break;
         }
         level = l;

@@ -1,5 +1,6 @@
 // G-buffer pass: world position (w = 1 where a surface was drawn), normal + shininess, albedo +
-// specular weight, for the deterministic corridor scene.
+// specular weight, for the deterministic corridor scene. The position's f32 bits travel in an
+// Rgba32Uint target: exact, and renderable where Rgba32Float is not (wgpu's GL backend).
 
 struct Camera {
     view_projection: mat4x4f,
@@ -23,7 +24,7 @@ struct GbufferVarying {
 }
 
 struct Gbuffer {
-    @location(0) position: vec4f,
+    @location(0) position: vec4u,
     @location(1) normal: vec4f,
     @location(2) albedo: vec4f,
 }
@@ -35,5 +36,5 @@ fn vs_scene(vertex: SceneVertex) -> GbufferVarying {
 
 @fragment
 fn fs_gbuffer(in: GbufferVarying) -> Gbuffer {
-    return Gbuffer(vec4f(in.world, 1.0), vec4f(normalize(in.normal), in.shininess), in.albedo);
+    return Gbuffer(bitcast<vec4u>(vec4f(in.world, 1.0)), vec4f(normalize(in.normal), in.shininess), in.albedo);
 }

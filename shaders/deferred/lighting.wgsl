@@ -7,7 +7,7 @@ struct Shading {
 }
 
 @group(0) @binding(0) var<uniform> shading: Shading;
-@group(0) @binding(1) var gbuffer_position: texture_2d<f32>;
+@group(0) @binding(1) var gbuffer_position: texture_2d<u32>;
 @group(0) @binding(2) var gbuffer_normal: texture_2d<f32>;
 @group(0) @binding(3) var gbuffer_albedo: texture_2d<f32>;
 @group(0) @binding(4) var lights: texture_2d<f32>;
@@ -16,7 +16,7 @@ struct Shading {
 fn fs_deferred(@builtin(position) position: vec4f) -> @location(0) vec4f {
     let pixel = vec2u(position.xy);
     let colour = shade_sample(
-        textureLoad(gbuffer_position, pixel, 0),
+        bitcast<vec4f>(textureLoad(gbuffer_position, pixel, 0)),
         textureLoad(gbuffer_normal, pixel, 0),
         textureLoad(gbuffer_albedo, pixel, 0),
         shading.eye,

@@ -12,7 +12,8 @@ pub enum LodPolicy {
     /// coarser each time the distance doubles.
     Foveated { focus: (f32, f32), inner_radius: f32 },
     /// Coarsest level whose aligned block holds no geometric edge (normal angle beyond
-    /// acos(`normal_cos`), relative depth jump beyond `depth_ratio`, or coverage change).
+    /// acos(`normal_cos`), a position jump beyond `depth_ratio` times the distance from the eye,
+    /// or a coverage change).
     Content { normal_cos: f32, depth_ratio: f32 },
     /// The caller's own LOD per pixel, row-major, `width * height` values in 0..=8.
     Explicit(Vec<u8>),

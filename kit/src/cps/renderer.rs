@@ -21,6 +21,10 @@ const LOD: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
 const MASK: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 const STENCIL: wgpu::TextureFormat = wgpu::TextureFormat::Stencil8;
 
+/// The seam-free composite's level field varies over blocks of 2^3 = 8 pixels (clamped to the
+/// plan's top level): wide enough to hide a level step, narrow enough to follow the LOD.
+pub const SEAM_FREE_TRANSITION_LEVEL: u32 = 3;
+
 /// One frame's inputs.
 pub struct CpsFrame<'a> {
     pub gbuffer: &'a Gbuffer,
@@ -305,12 +309,8 @@ impl CpsRenderer {
             (LodPolicy::Content { normal_cos, depth_ratio }, Some(pipeline)) => {
                 let (edges, edge_pipeline) =
                     (self.edges.as_ref().expect("planned"), self.edge_pipeline.as_ref().expect("planned"));
-                let thresholds = uniform_buffer(
-                    gpu,
-                    "edge thresholds",
-                    bytemuck::cast_slice(&[*normal_cos, *depth_ratio, 0.0, 0.0]),
-                );
-                let depth = frame.gbuffer.depth.create_view(&Default::default());
+                let words = [frame.eye.x, frame.eye.y, frame.eye.z, *normal_cos, *depth_ratio, 0.0, 0.0, 0.0];
+                let thresholds = uniform_buffer(gpu, "edge thresholds", bytemuck::cast_slice(&words));
                 let [position, normal, _] = &frame.gbuffer.views;
                 let group = bind_group(
                     gpu,
@@ -321,7 +321,6 @@ impl CpsRenderer {
                         thresholds.as_entire_binding(),
                         wgpu::BindingResource::TextureView(position),
                         wgpu::BindingResource::TextureView(normal),
-                        wgpu::BindingResource::TextureView(&depth),
                     ],
                 );
                 {
@@ -517,14 +516,18 @@ impl CpsRenderer {
 
     fn record_composite(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
         let (w, h) = self.plan.screen;
-        let uniform = uniform_buffer(gpu, "composite", bytemuck::cast_slice(&[self.plan.top_level, 0, w, h]));
-        let mut resources =
-            vec![(0, uniform.as_entire_binding()), (1, wgpu::BindingResource::TextureView(&self.lod_view))];
+        let transition = SEAM_FREE_TRANSITION_LEVEL.min(self.plan.top_level);
+        let uniform = uniform_buffer(gpu, "composite", bytemuck::cast_slice(&[self.plan.top_level, transition, w, h]));
+        let mut resources = vec![(0, uniform.as_entire_binding())];
         match (self.config.composite, &self.fill) {
             (CompositeMode::SeamFree, Some((_, filled))) => {
-                resources.push((3, wgpu::BindingResource::TextureView(&filled.all)))
+                resources.push((3, wgpu::BindingResource::TextureView(&filled.all)));
+                resources.push((4, wgpu::BindingResource::TextureView(&self.mask.all)));
             }
-            _ => resources.push((2, wgpu::BindingResource::TextureView(&self.lit.all))),
+            _ => {
+                resources.push((1, wgpu::BindingResource::TextureView(&self.lod_view)));
+                resources.push((2, wgpu::BindingResource::TextureView(&self.lit.all)));
+            }
         }
         let group = bind_group_at(gpu, "composite", &self.composite_pipeline, 0, &resources);
         let view = self.image.create_view(&Default::default());

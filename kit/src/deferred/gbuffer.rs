@@ -11,7 +11,8 @@ use crate::query::GpuTimer;
 use crate::scene::corridor::{Scene, SceneVertex};
 use crate::shaders;
 
-pub const POSITION: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// f32 bits of the world position (exact, and renderable on every backend, unlike Rgba32Float).
+pub const POSITION: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 pub const NORMAL: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 pub const ALBEDO: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 pub const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;

@@ -71,16 +71,35 @@ impl Expectations {
         Self::parse(&text, &path.display().to_string())
     }
 
-    /// The known issue listed for this case on this adapter, if any.
-    pub fn find(&self, case: &str, adapter: &AdapterDescription) -> Option<&KnownIssue> {
-        self.known_issues.iter().find(|issue| issue.matches(case, adapter))
+    /// The known issues listed for this case on this adapter.
+    pub fn find(&self, case: &str, adapter: &AdapterDescription) -> Vec<&KnownIssue> {
+        self.known_issues.iter().filter(|issue| issue.matches(case, adapter)).collect()
+    }
+
+    /// The entries that explain a failure, when together they explain every one of its problems
+    /// (a case joins its problems with "; "); None when some problem is unexplained.
+    pub fn explain<'a>(
+        &'a self,
+        case: &str,
+        adapter: &AdapterDescription,
+        reason: &str,
+    ) -> Option<Vec<&'a KnownIssue>> {
+        let listed = self.find(case, adapter);
+        let mut used: Vec<&KnownIssue> = Vec::new();
+        for problem in reason.split("; ") {
+            let issue = listed.iter().find(|issue| issue.explains(problem))?;
+            if !used.iter().any(|u| std::ptr::eq(*u, *issue)) {
+                used.push(issue);
+            }
+        }
+        Some(used)
     }
 }
 
 impl KnownIssue {
-    /// Whether this entry explains a failure with the given reason.
-    pub fn explains(&self, reason: &str) -> bool {
-        self.failure.as_deref().is_none_or(|pattern| reason.split("; ").all(|problem| glob_matches(pattern, problem)))
+    /// Whether this entry explains one problem of a failure.
+    fn explains(&self, problem: &str) -> bool {
+        self.failure.as_deref().is_none_or(|pattern| glob_matches(pattern, problem))
     }
 
     fn matches(&self, case: &str, adapter: &AdapterDescription) -> bool {
@@ -120,20 +139,34 @@ mod tests {
     #[test]
     fn an_entry_matches_by_case_and_adapter_globs() {
         let expectations = Expectations::parse(ENTRY, "test").unwrap();
-        assert!(expectations.find("kit.scissor.msaa", &lavapipe()).is_some());
-        assert!(expectations.find("kit.determinism", &lavapipe()).is_none());
+        assert_eq!(expectations.find("kit.scissor.msaa", &lavapipe()).len(), 1);
+        assert!(expectations.find("kit.determinism", &lavapipe()).is_empty());
         let gl = AdapterDescription { backend: "gl".into(), ..lavapipe() };
-        assert!(expectations.find("kit.scissor.msaa", &gl).is_none());
+        assert!(expectations.find("kit.scissor.msaa", &gl).is_empty());
         let newer = AdapterDescription { driver_info: "Mesa 24.0.1".into(), ..lavapipe() };
-        assert!(expectations.find("kit.scissor.msaa", &newer).is_none());
+        assert!(expectations.find("kit.scissor.msaa", &newer).is_empty());
     }
 
     #[test]
     fn an_entry_explains_only_the_failures_it_describes() {
-        let expectations = Expectations::parse(ENTRY, "test").unwrap();
-        let issue = expectations.find("kit.scissor.msaa", &lavapipe()).unwrap();
-        assert!(issue.explains("4x: 31 pixels differ; 4x: 861 samples, expected 800"));
-        assert!(!issue.explains("1x: 1000 pixels differ; 4x: 31 pixels differ"));
+        let two =
+            format!("{ENTRY}\n[[known_issue]]\ncase = \"kit.scissor.msaa\"\nfailure = \"2x: *\"\nreason = \"other\"\n");
+        let expectations = Expectations::parse(&two, "test").unwrap();
+        let adapter = lavapipe();
+        assert!(
+            expectations
+                .explain("kit.scissor.msaa", &adapter, "4x: 31 pixels differ; 4x: 861 samples, expected 800")
+                .is_some()
+        );
+        assert_eq!(
+            expectations.explain("kit.scissor.msaa", &adapter, "4x: 31 pixels; 2x: 5 pixels").map(|v| v.len()),
+            Some(2)
+        );
+        assert!(
+            expectations
+                .explain("kit.scissor.msaa", &adapter, "1x: 1000 pixels differ; 4x: 31 pixels differ")
+                .is_none()
+        );
     }
 
     #[test]

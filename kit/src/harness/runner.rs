@@ -10,7 +10,7 @@ use anyhow::{Result, bail};
 use glob::Pattern;
 
 use super::case::{Case, Ctx, Outcome};
-use super::expectations::Expectations;
+use super::expectations::{Expectations, KnownIssue};
 use super::params::Params;
 use super::report::{CaseRecord, ReportedOutcome};
 use crate::gpu::Gpu;
@@ -96,24 +96,31 @@ pub fn run_case(
         Ok(ms) => (ms, outcome),
         Err(e) => (None, Outcome::Fail(format!("reading the case's GPU time: {e:#}"))),
     };
-    let (outcome, reason) = match (outcome, expectations.find(case.name, &gpu.description)) {
-        (Outcome::Pass, None) => (ReportedOutcome::Pass, String::new()),
-        (Outcome::Pass, Some(issue)) => (
+    let listed = expectations.find(case.name, &gpu.description);
+    let reasons = |issues: &[&KnownIssue]| issues.iter().map(|i| i.reason.as_str()).collect::<Vec<_>>().join(" | ");
+    let (outcome, reason) = match outcome {
+        Outcome::Pass if listed.is_empty() => (ReportedOutcome::Pass, String::new()),
+        Outcome::Pass => (
             ReportedOutcome::UnexpectedPass,
-            format!("passed, but the expectations file lists it as a known issue ({}); remove the entry", issue.reason),
-        ),
-        (Outcome::Fail(why), Some(issue)) if issue.explains(&why) => {
-            (ReportedOutcome::KnownIssue, format!("{why} [known: {}]", issue.reason))
-        }
-        (Outcome::Fail(why), Some(issue)) => (
-            ReportedOutcome::Fail,
             format!(
-                "{why} [a known issue is listed for this case, but it does not explain this failure: {}]",
-                issue.reason
+                "passed, but the expectations file lists it as a known issue ({}); remove the entry",
+                reasons(&listed)
             ),
         ),
-        (Outcome::Fail(why), None) => (ReportedOutcome::Fail, why),
-        (Outcome::NotSupported(why), _) => (ReportedOutcome::NotSupported, why),
+        Outcome::Fail(why) => match expectations.explain(case.name, &gpu.description, &why) {
+            Some(known) if !known.is_empty() => {
+                (ReportedOutcome::KnownIssue, format!("{why} [known: {}]", reasons(&known)))
+            }
+            _ if listed.is_empty() => (ReportedOutcome::Fail, why),
+            _ => (
+                ReportedOutcome::Fail,
+                format!(
+                    "{why} [known issues are listed for this case, but they do not explain all of this failure: {}]",
+                    reasons(&listed)
+                ),
+            ),
+        },
+        Outcome::NotSupported(why) => (ReportedOutcome::NotSupported, why),
     };
     CaseRecord {
         name: case.name.to_owned(),

@@ -1,0 +1,91 @@
+//! `cps.early_rejection`: the stencil-Equal lighting draw of a level costs in proportion to the
+//! texels it shades: level 0 with 1/64 of the pixels needing it must cost far less than with all
+//! of them (early stencil rejection). Reports GPU time per shaded texel for each level of a
+//! foveated frame. Where the adapter shades rejected fragments anyway, that is a capability
+//! result (NotSupported), not a failure.
+
+use anyhow::Result;
+use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+
+use super::{corridor_inputs, frame};
+
+pub const CASE: Case = Case {
+    name: "cps.early_rejection",
+    summary: "a level's lighting time scales with the texels its stencil passes",
+    requires: wgpu::Features::TIMESTAMP_QUERY,
+    params: &[
+        ParamSpec { name: "size", kind: ParamKind::Sizes, default: "128x128", help: "screen size" },
+        ParamSpec { name: "lights", kind: ParamKind::Count, default: "64", help: "point lights" },
+        ParamSpec { name: "repeats", kind: ParamKind::Count, default: "3", help: "timed repeats (median)" },
+    ],
+    run,
+};
+
+/// Above this time ratio (1/64 of the pixels vs all of them) the adapter does not reject early:
+/// halfway between perfect rejection (≈ 0.016) and none (1).
+const REJECTION_RATIO_LIMIT: f64 = 0.5;
+
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}
+
+fn run(ctx: &mut Ctx) -> Result<Outcome> {
+    let size = ctx.params.sizes("size")?[0];
+    let repeats = ctx.params.count("repeats")?.max(1);
+    let inputs = corridor_inputs(ctx.gpu, size, u32::try_from(ctx.params.count("lights")?)?, 4)?;
+    let pixels = (size.0 * size.1) as usize;
+
+    // Level 0 in the top-left 1/8 × 1/8 of the screen, the rest at the coarsest level: time of
+    // the level-0 lighting pass, versus level 0 everywhere.
+    let corner: Vec<u8> = (0..pixels)
+        .map(|i| if (i as u32 % size.0) < size.0 / 8 && (i as u32 / size.0) < size.1 / 8 { 0 } else { 8 })
+        .collect();
+    let mut level0_ms = Vec::new();
+    for lod in [corner, vec![0u8; pixels]] {
+        let renderer = CpsRenderer::new(
+            ctx.gpu,
+            size,
+            CpsConfig { max_level: 8, policy: LodPolicy::Explicit(lod), composite: CompositeMode::Nearest },
+        )?;
+        renderer.render(ctx.gpu, &frame(&inputs))?;
+        let times: Vec<f64> = (0..repeats)
+            .map(|_| Ok(renderer.render(ctx.gpu, &frame(&inputs))?.gpu_ms("light 0")))
+            .collect::<Result<_>>()?;
+        level0_ms.push(median(times));
+    }
+    let fraction = f64::from((size.0 / 8) * (size.1 / 8)) / pixels as f64;
+    let ratio = level0_ms[0] / level0_ms[1];
+    ctx.metric("level0_passing_fraction", fraction);
+    ctx.metric("level0_ms", serde_json::json!({"passing_fraction": level0_ms[0], "all": level0_ms[1]}));
+    ctx.metric("time_ratio", ratio);
+
+    // Time per shaded texel, per level, of a foveated frame.
+    let foveated = CpsRenderer::new(
+        ctx.gpu,
+        size,
+        CpsConfig { max_level: 5, policy: LodPolicy::foveated(), composite: CompositeMode::Nearest },
+    )?;
+    foveated.render(ctx.gpu, &frame(&inputs))?;
+    let output = foveated.render(ctx.gpu, &frame(&inputs))?;
+    let per_texel: Vec<serde_json::Value> = output
+        .shaded_texels
+        .iter()
+        .enumerate()
+        .map(|(level, &count)| {
+            let ms = output.gpu_ms(&format!("light {level}"));
+            serde_json::json!({"level": level, "shaded": count, "ms": ms, "ns_per_texel": if count > 0 { ms * 1e6 / count as f64 } else { 0.0 }})
+        })
+        .collect();
+    ctx.metric("foveated_levels", per_texel);
+
+    Ok(if ratio <= REJECTION_RATIO_LIMIT {
+        Outcome::Pass
+    } else {
+        Outcome::NotSupported(format!(
+            "early stencil rejection: level 0 with {:.1} % of the pixels cost {ratio:.2}x the full level",
+            fraction * 100.0
+        ))
+    })
+}

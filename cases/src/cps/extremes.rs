@@ -1,0 +1,94 @@
+//! `cps.extremes`: stiff inputs stay finite and exact. 200 lights on a 1×1 screen; every pixel at
+//! level 8 on a 300×200 screen (fragments larger than the screen); lights placed exactly on
+//! surface points the G-buffer holds (distance 0). No NaN or Inf may reach any lit level or
+//! composite, and the shaded counts stay exact.
+
+use anyhow::Result;
+use fragkit::cps::reference::expected_shaded_texels;
+use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy, MAX_LEVEL};
+use fragkit::deferred::DeferredInputs;
+use fragkit::deferred::lights::LightTexture;
+use fragkit::harness::{Case, Ctx, Outcome};
+use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
+use fragkit::readback::read_texture;
+use fragkit::scene::corridor::corridor;
+
+use super::{corridor_inputs, frame};
+
+pub const CASE: Case = Case {
+    name: "cps.extremes",
+    summary: "1x1 with 200 lights, level 8 past the screen, lights on surfaces: finite and exact",
+    requires: wgpu::Features::empty(),
+    params: &[],
+    run,
+};
+
+/// Renders every composite mode; returns problems (non-finite values, wrong counts).
+fn check_all_modes(
+    ctx: &mut Ctx,
+    name: &str,
+    inputs: &DeferredInputs,
+    policy: LodPolicy,
+    exact_counts: bool,
+) -> Result<Vec<String>> {
+    let mut problems = Vec::new();
+    let size = inputs.gbuffer.size;
+    for composite in CompositeMode::ALL {
+        let renderer =
+            CpsRenderer::new(ctx.gpu, size, CpsConfig { max_level: MAX_LEVEL, policy: policy.clone(), composite })?;
+        let output = renderer.render(ctx.gpu, &frame(inputs))?;
+        let mut values = renderer.read_image(ctx.gpu)?;
+        for level in 0..renderer.plan.levels() {
+            values.extend(renderer.read_lit_level(ctx.gpu, level)?);
+        }
+        let non_finite = values.iter().filter(|v| !v.is_finite()).count();
+        let expected = expected_shaded_texels(size, &renderer.read_lod(ctx.gpu)?, renderer.plan.top_level);
+        ctx.metric(
+            &format!("{name}.{}", composite.name()),
+            serde_json::json!({"non_finite": non_finite, "shaded": output.shaded_texels, "expected": expected}),
+        );
+        if non_finite > 0 {
+            problems.push(format!("{name} {}: {non_finite} non-finite values", composite.name()));
+        }
+        if exact_counts && output.shaded_texels != expected {
+            problems.push(format!(
+                "{name} {}: shaded {:?}, expected {expected:?}",
+                composite.name(),
+                output.shaded_texels
+            ));
+        }
+    }
+    Ok(problems)
+}
+
+fn run(ctx: &mut Ctx) -> Result<Outcome> {
+    let exact = measure_occlusion_precision(ctx.gpu)? == OcclusionPrecision::Exact;
+    let mut problems = Vec::new();
+
+    let tiny = corridor_inputs(ctx.gpu, (1, 1), 200, 5)?;
+    problems.extend(check_all_modes(ctx, "1x1_200_lights", &tiny, LodPolicy::foveated(), exact)?);
+
+    let wide = corridor_inputs(ctx.gpu, (300, 200), 8, 5)?;
+    problems.extend(check_all_modes(
+        ctx,
+        "300x200_all_level_8",
+        &wide,
+        LodPolicy::Explicit(vec![8; 300 * 200]),
+        exact,
+    )?);
+
+    // Lights moved onto surface points the G-buffer holds, bit for bit: distance exactly 0 there.
+    let size = (48, 32);
+    let mut scene = corridor(6, 16);
+    let mut inputs = corridor_inputs(ctx.gpu, size, 16, 6)?;
+    let positions = read_texture(ctx.gpu, &inputs.gbuffer.position, wgpu::TextureAspect::All, 0)?.as_f32();
+    for (i, light) in scene.lights.iter_mut().enumerate() {
+        let pixel = (i * 97) % (size.0 * size.1) as usize;
+        let p = &positions[pixel * 4..pixel * 4 + 4];
+        light.position = glam::Vec3::new(p[0], p[1], p[2]);
+    }
+    inputs.lights = LightTexture::new(ctx.gpu, &scene.lights)?;
+    problems.extend(check_all_modes(ctx, "lights_on_surfaces", &inputs, LodPolicy::Explicit(vec![0; 48 * 32]), exact)?);
+
+    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+}
