@@ -5,6 +5,7 @@ use fragkit::harness::Case;
 
 pub mod cps;
 pub mod kit;
+pub mod texarray;
 
 /// Every case, in the order `fragkit check` runs them.
 pub const ALL: &[Case] = &[
@@ -22,4 +23,5 @@ pub const ALL: &[Case] = &[
     cps::composite_matches_reference::CASE,
     cps::early_rejection::CASE,
     cps::extremes::CASE,
+    texarray::index_exactness::CASE,
 ];

@@ -67,4 +67,5 @@ case_tests! {
     cps_composite_matches_reference => "cps.composite.matches_reference",
     cps_early_rejection => "cps.early_rejection",
     cps_extremes => "cps.extremes",
+    texarray_index_exactness => "texarray.index_exactness",
 }

@@ -17,6 +17,7 @@ pub mod readback;
 pub mod rects;
 pub mod scene;
 pub mod shaders;
+pub mod texarray;
 pub mod tonemap;
 
 pub use gpu::{AdapterSelector, Gpu};

@@ -46,6 +46,7 @@ shader_files! {
     CPS_FILL_PULL => "cps/fill_pull.wgsl",
     CPS_FILL_PUSH => "cps/fill_push.wgsl",
     CPS_COMPOSITE => "cps/composite.wgsl",
+    TEXARRAY_FETCH => "texarray/fetch.wgsl",
 }
 
 impl ShaderFile {
