@@ -42,6 +42,11 @@ enum Command {
         #[command(subcommand)]
         technique: Technique,
     },
+    /// Sweep a technique's settings and write error against GPU time (JSON, markdown, PNG plot).
+    Report {
+        #[command(subcommand)]
+        technique: ReportTechnique,
+    },
     /// Run cases (glob patterns; all when none) and exit 1 on any unexpected failure.
     Check {
         patterns: Vec<String>,
@@ -77,6 +82,23 @@ enum Technique {
         lights: u32,
         #[arg(long, default_value_t = 1)]
         seed: u32,
+    },
+}
+
+#[derive(Subcommand)]
+enum ReportTechnique {
+    /// CPS: policy × top level × light count × composite, against full resolution and the naive way.
+    Cps {
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, default_value = "320x180", value_parser = parse_size)]
+        size: (u32, u32),
+        #[arg(long, value_delimiter = ',', default_value = "1,16,64,200")]
+        lights: Vec<u32>,
+        #[arg(long, value_delimiter = ',', default_value = "2,4,6")]
+        max_levels: Vec<u32>,
+        #[arg(long, default_value_t = 3)]
+        repeats: u32,
     },
 }
 
@@ -136,6 +158,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             }
         }
         Command::Render { technique } => render(&selector, technique)?,
+        Command::Report { technique } => report(&selector, technique)?,
         Command::Check { patterns, sets, json, out, expectations } => {
             return check(&selector, &patterns, &sets, json, out, expectations);
         }
@@ -157,6 +180,35 @@ fn render(selector: &AdapterSelector, technique: Technique) -> Result<()> {
                 image.save(&path).with_context(|| format!("writing {}", path.display()))?;
                 println!("{}", path.display());
             }
+        }
+    }
+    Ok(())
+}
+
+fn report(selector: &AdapterSelector, technique: ReportTechnique) -> Result<()> {
+    match technique {
+        ReportTechnique::Cps { out, size, lights, max_levels, repeats } => {
+            let sweep = fragkit::cps::report::CpsSweep {
+                size,
+                light_counts: lights,
+                max_levels,
+                repeats,
+                ..Default::default()
+            };
+            let gpu = Gpu::open(selector)?;
+            let progress = indicatif::ProgressBar::new_spinner();
+            let rows = gpu.scoped("cps report", || {
+                fragkit::cps::report::run_sweep(&gpu, &sweep, |row| {
+                    progress.set_message(format!(
+                        "{} lights, {} {} level {}",
+                        row.lights, row.method, row.composite, row.max_level
+                    ));
+                    progress.tick();
+                })
+            })?;
+            progress.finish_and_clear();
+            fragkit::cps::report::write_report(&out, &gpu.description, &rows)?;
+            println!("{}", out.join("cps_report.md").display());
         }
     }
     Ok(())

@@ -49,3 +49,20 @@ pub fn side_by_side(result: &RgbaImage, reference: &RgbaImage, mask: &RgbaImage)
     }
     out
 }
+
+/// Mean FLIP error (NVIDIA's perceptual metric, 0 = identical, 1 = maximal) of `result` against
+/// `reference`, both display-referred sRGB, at FLIP's default viewing conditions.
+pub fn flip_mean(result: &RgbaImage, reference: &RgbaImage) -> Result<f32> {
+    ensure!(
+        result.dimensions() == reference.dimensions(),
+        "FLIP needs equal sizes: {:?} vs {:?}",
+        result.dimensions(),
+        reference.dimensions()
+    );
+    let rgb = |image: &RgbaImage| image.pixels().flat_map(|p| [p[0], p[1], p[2]]).collect::<Vec<u8>>();
+    let (w, h) = result.dimensions();
+    let reference = nv_flip::FlipImageRgb8::with_data(w, h, &rgb(reference));
+    let test = nv_flip::FlipImageRgb8::with_data(w, h, &rgb(result));
+    let error = nv_flip::flip(reference, test, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
+    Ok(nv_flip::FlipPool::from_image(&error).mean())
+}

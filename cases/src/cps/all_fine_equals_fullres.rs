@@ -7,7 +7,6 @@ use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy, MAX_LEVEL};
 use fragkit::deferred::lighting::light_full_resolution;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
 use fragkit::image_compare::{compare, side_by_side};
-use fragkit::query::GpuTimer;
 use fragkit::readback::read_texture;
 use fragkit::tonemap::to_display;
 
@@ -29,18 +28,13 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let inputs = corridor_inputs(ctx.gpu, size, u32::try_from(ctx.params.count("lights")?)?, 1)?;
 
     // Reference: full-resolution deferred lighting, raw f16 bits.
-    let fullres =
-        light_full_resolution(ctx.gpu, &inputs.gbuffer, &inputs.lights, inputs.eye, &mut GpuTimer::new(ctx.gpu, 1))?;
+    let fullres = light_full_resolution(ctx.gpu, &inputs)?;
     let reference = read_texture(ctx.gpu, &fullres, wgpu::TextureAspect::All, 0)?;
 
     let mut problems = Vec::new();
     for composite in CompositeMode::ALL {
         // LOD 0 everywhere, with the whole pyramid still planned (max level 8).
-        let config = CpsConfig {
-            max_level: MAX_LEVEL,
-            policy: LodPolicy::Explicit(vec![0; (size.0 * size.1) as usize]),
-            composite,
-        };
+        let config = CpsConfig::new(MAX_LEVEL, LodPolicy::Explicit(vec![0; (size.0 * size.1) as usize]), composite);
         let renderer = CpsRenderer::new(ctx.gpu, size, config)?;
         let output = renderer.render(ctx.gpu, &frame(&inputs))?;
         let result = read_texture(ctx.gpu, &renderer.image, wgpu::TextureAspect::All, 0)?;

@@ -10,7 +10,6 @@ use fragkit::cps::reference::{CompositeInputs, Level, seam_error};
 use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy};
 use fragkit::deferred::lighting::light_full_resolution;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
-use fragkit::query::GpuTimer;
 use fragkit::readback::read_texture;
 
 use super::{corridor_inputs, frame, random_lod};
@@ -40,8 +39,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let size = ctx.params.sizes("size")?[0];
     let max_level = u32::try_from(ctx.params.count("max_level")?)?;
     let inputs = corridor_inputs(ctx.gpu, size, u32::try_from(ctx.params.count("lights")?)?, 2)?;
-    let fullres =
-        light_full_resolution(ctx.gpu, &inputs.gbuffer, &inputs.lights, inputs.eye, &mut GpuTimer::new(ctx.gpu, 1))?;
+    let fullres = light_full_resolution(ctx.gpu, &inputs)?;
     let reference = as_texels(&read_texture(ctx.gpu, &fullres, wgpu::TextureAspect::All, 0)?.as_f16());
 
     let mut problems = Vec::new();
@@ -52,7 +50,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     ];
     for (name, policy) in policies {
         for composite in CompositeMode::ALL {
-            let renderer = CpsRenderer::new(ctx.gpu, size, CpsConfig { max_level, policy: policy.clone(), composite })?;
+            let renderer = CpsRenderer::new(ctx.gpu, size, CpsConfig::new(max_level, policy.clone(), composite))?;
             renderer.render(ctx.gpu, &frame(&inputs))?;
             let gpu_image = as_texels(&renderer.read_image(ctx.gpu)?);
 

@@ -44,11 +44,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         .collect();
     let mut level0_ms = Vec::new();
     for lod in [corner, vec![0u8; pixels]] {
-        let renderer = CpsRenderer::new(
-            ctx.gpu,
-            size,
-            CpsConfig { max_level: 8, policy: LodPolicy::Explicit(lod), composite: CompositeMode::Nearest },
-        )?;
+        let renderer =
+            CpsRenderer::new(ctx.gpu, size, CpsConfig::new(8, LodPolicy::Explicit(lod), CompositeMode::Nearest))?;
         renderer.render(ctx.gpu, &frame(&inputs))?;
         let times: Vec<f64> = (0..repeats)
             .map(|_| Ok(renderer.render(ctx.gpu, &frame(&inputs))?.gpu_ms("light 0")))
@@ -62,11 +59,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     ctx.metric("time_ratio", ratio);
 
     // Time per shaded texel, per level, of a foveated frame.
-    let foveated = CpsRenderer::new(
-        ctx.gpu,
-        size,
-        CpsConfig { max_level: 5, policy: LodPolicy::foveated(), composite: CompositeMode::Nearest },
-    )?;
+    let foveated = CpsRenderer::new(ctx.gpu, size, CpsConfig::new(5, LodPolicy::foveated(), CompositeMode::Nearest))?;
     foveated.render(ctx.gpu, &frame(&inputs))?;
     let output = foveated.render(ctx.gpu, &frame(&inputs))?;
     let per_texel: Vec<serde_json::Value> = output

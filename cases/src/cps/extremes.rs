@@ -34,8 +34,7 @@ fn check_all_modes(
     let mut problems = Vec::new();
     let size = inputs.gbuffer.size;
     for composite in CompositeMode::ALL {
-        let renderer =
-            CpsRenderer::new(ctx.gpu, size, CpsConfig { max_level: MAX_LEVEL, policy: policy.clone(), composite })?;
+        let renderer = CpsRenderer::new(ctx.gpu, size, CpsConfig::new(MAX_LEVEL, policy.clone(), composite))?;
         let output = renderer.render(ctx.gpu, &frame(inputs))?;
         let mut values = renderer.read_image(ctx.gpu)?;
         for level in 0..renderer.plan.levels() {

@@ -47,7 +47,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     for size in ctx.params.sizes("sizes")? {
         let inputs = corridor_inputs(ctx.gpu, size, 2, seed)?;
         for (name, policy) in policies(size, seed) {
-            let config = CpsConfig { max_level: MAX_LEVEL, policy, composite: CompositeMode::Nearest };
+            let config = CpsConfig::new(MAX_LEVEL, policy, CompositeMode::Nearest);
             let renderer = CpsRenderer::new(ctx.gpu, size, config)?;
             let output = renderer.render(ctx.gpu, &frame(&inputs))?;
 

@@ -85,9 +85,21 @@ pub struct CpsConfig {
     pub max_level: u32,
     pub policy: LodPolicy,
     pub composite: CompositeMode,
+    /// The naive alternative the original method argues against: every texel of every level
+    /// lit (no stencil pyramid), then composited. For comparison only.
+    pub shade_every_texel: bool,
 }
 
 impl CpsConfig {
+    pub fn new(max_level: u32, policy: LodPolicy, composite: CompositeMode) -> Self {
+        Self { max_level, policy, composite, shade_every_texel: false }
+    }
+
+    /// The same configuration, lit the naive way (every level in full).
+    pub fn naive(self) -> Self {
+        Self { shade_every_texel: true, ..self }
+    }
+
     /// Checks the configuration for a screen; errors name the bad value and the allowed range.
     pub fn validate(&self, (width, height): (u32, u32)) -> Result<()> {
         ensure!(

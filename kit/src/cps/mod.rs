@@ -8,6 +8,7 @@ pub mod pictures;
 pub mod plan;
 pub mod reference;
 pub mod renderer;
+pub mod report;
 pub mod targets;
 
 pub use config::{CompositeMode, CpsConfig, LodPolicy, MAX_LEVEL};

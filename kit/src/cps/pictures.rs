@@ -1,7 +1,7 @@
 //! What a person looks at: the LOD buffer, each level's stencil mask and lit mip, and the
 //! composite, read back from a rendered frame as display images.
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use image::{Rgba, RgbaImage};
 
 use super::renderer::CpsRenderer;
@@ -46,7 +46,8 @@ impl CpsRenderer {
     /// Level `level`'s stencil (data region only): 1 where the level shades.
     pub fn read_stencil_level(&self, gpu: &Gpu, level: u32) -> Result<Vec<u8>> {
         let (w, h) = self.plan.level_extents[level as usize];
-        Ok(read_stencil(gpu, &self.stencil.texture, level)?.crop(w, h).bytes)
+        let stencil = self.stencil.as_ref().context("the naive configuration builds no stencil pyramid")?;
+        Ok(read_stencil(gpu, &stencil.texture, level)?.crop(w, h).bytes)
     }
 
     /// Named images of the last frame: `lod`, `stencil_<l>`, `lit_<l>` and `composite_<mode>`.
@@ -55,16 +56,26 @@ impl CpsRenderer {
         let lod = self.read_lod(gpu)?;
         let mut pictures =
             vec![("lod".to_owned(), RgbaImage::from_fn(w, h, |x, y| level_colour(lod[(y * w + x) as usize])))];
+        let stencil_copies = gpu
+            .adapter
+            .get_downlevel_capabilities()
+            .flags
+            .contains(wgpu::DownlevelFlags::DEPTH_TEXTURE_AND_BUFFER_COPIES);
         for level in 0..self.plan.levels() {
             let (lw, lh) = self.plan.level_extents[level as usize];
-            let stencil = self.read_stencil_level(gpu, level)?;
-            pictures.push((
-                format!("stencil_{level}"),
-                RgbaImage::from_fn(lw, lh, |x, y| {
-                    if stencil[(y * lw + x) as usize] != 0 { Rgba([255; 4]) } else { Rgba([0, 0, 0, 255]) }
-                }),
-            ));
-            pictures.push((format!("lit_{level}"), to_display(lw, lh, &self.read_lit_level(gpu, level)?)?));
+            let lit = self.read_lit_level(gpu, level)?;
+            // The stencil itself where it can be copied, else what it let through (lit alpha).
+            let marked: Vec<bool> = match (&self.stencil, stencil_copies) {
+                (Some(_), true) => self.read_stencil_level(gpu, level)?.iter().map(|&s| s != 0).collect(),
+                (Some(_), false) => lit.chunks_exact(4).map(|t| t[3] == 1.0).collect(),
+                (None, _) => Vec::new(),
+            };
+            if !marked.is_empty() {
+                let mask =
+                    |x: u32, y: u32| if marked[(y * lw + x) as usize] { Rgba([255; 4]) } else { Rgba([0, 0, 0, 255]) };
+                pictures.push((format!("stencil_{level}"), RgbaImage::from_fn(lw, lh, mask)));
+            }
+            pictures.push((format!("lit_{level}"), to_display(lw, lh, &lit)?));
         }
         pictures
             .push((format!("composite_{}", self.config.composite.name()), to_display(w, h, &self.read_image(gpu)?)?));
@@ -86,16 +97,15 @@ pub fn render_all(
     use super::{CompositeMode, CpsConfig};
     use crate::deferred::DeferredInputs;
     use crate::deferred::lighting::light_full_resolution;
-    use crate::query::GpuTimer;
 
     let scene = crate::scene::corridor::corridor(seed, light_count);
     let inputs = DeferredInputs::new(gpu, &scene, size)?;
     let frame = super::renderer::CpsFrame { gbuffer: &inputs.gbuffer, lights: &inputs.lights, eye: inputs.eye };
-    let fullres = light_full_resolution(gpu, &inputs.gbuffer, &inputs.lights, inputs.eye, &mut GpuTimer::new(gpu, 1))?;
+    let fullres = light_full_resolution(gpu, &inputs)?;
     let reference = to_display(size.0, size.1, &read_texture(gpu, &fullres, wgpu::TextureAspect::All, 0)?.as_f16())?;
     let mut pictures = Vec::new();
     for (i, composite) in CompositeMode::ALL.into_iter().enumerate() {
-        let renderer = CpsRenderer::new(gpu, size, CpsConfig { max_level, policy: policy.clone(), composite })?;
+        let renderer = CpsRenderer::new(gpu, size, CpsConfig::new(max_level, policy.clone(), composite))?;
         renderer.render(gpu, &frame)?;
         let mut frame_pictures = renderer.pictures(gpu)?;
         let composite_image = frame_pictures.pop().expect("composite is last");

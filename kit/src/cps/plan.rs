@@ -23,6 +23,8 @@ pub struct Plan {
     /// Levels no pixel uses are drawn with zero instances, the counts written by a fragment pass
     /// (needs fragment storage writes); otherwise every level is drawn and the stencil rejects all.
     pub skip_absent_levels_on_gpu: bool,
+    /// The stencil pyramid (absent for the naive, shade-everything comparison).
+    pub stencil_pyramid: bool,
     pub edge_pyramid: bool,
     pub fill_pyramid: bool,
 }
@@ -54,11 +56,11 @@ impl Plan {
             top_level,
             level_extents,
             padded,
-            skip_absent_levels_on_gpu: gpu
-                .adapter
-                .get_downlevel_capabilities()
-                .flags
-                .contains(wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE | wgpu::DownlevelFlags::INDIRECT_EXECUTION),
+            skip_absent_levels_on_gpu: !config.shade_every_texel
+                && gpu.adapter.get_downlevel_capabilities().flags.contains(
+                    wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE | wgpu::DownlevelFlags::INDIRECT_EXECUTION,
+                ),
+            stencil_pyramid: !config.shade_every_texel,
             edge_pyramid: matches!(config.policy, LodPolicy::Content { .. }),
             fill_pyramid: config.composite == CompositeMode::SeamFree,
         })

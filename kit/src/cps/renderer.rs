@@ -109,7 +109,8 @@ pub struct CpsRenderer {
     pub edges: Option<MipChain>,
     /// OR-reduced LOD-present bits: bit l of mip l texel q = some pixel of q's block has LOD l.
     pub mask: MipChain,
-    pub stencil: MipChain,
+    /// One stencil per level (absent for the naive comparison).
+    pub stencil: Option<MipChain>,
     /// Lit levels; alpha 1 marks a shaded texel.
     pub lit: MipChain,
     /// Pull and push stages of the fill pyramid (seam-free composite only).
@@ -181,7 +182,7 @@ impl CpsRenderer {
             lod,
             edges: plan.edge_pyramid.then(|| chain("edge pyramid", MASK)),
             mask: chain("lod-present pyramid", MASK),
-            stencil: chain("stencil pyramid", STENCIL),
+            stencil: plan.stencil_pyramid.then(|| chain("stencil pyramid", STENCIL)),
             lit: chain("lit levels", HDR),
             fill: plan.fill_pyramid.then(|| (fill_chain("fill pull"), fill_chain("fill push"))),
             image: gpu.texture("cps composite", screen, HDR, 1, target_usage()),
@@ -205,7 +206,7 @@ impl CpsRenderer {
                 shaders::CPS_LIGHTING,
                 "fs_light_level",
                 Some(HDR),
-                Some(stencil8(wgpu::CompareFunction::Equal, wgpu::StencilOperation::Keep)),
+                plan.stencil_pyramid.then(|| stencil8(wgpu::CompareFunction::Equal, wgpu::StencilOperation::Keep)),
             ),
             fill_pipelines,
             composite_pipeline: fullscreen(
@@ -229,7 +230,7 @@ impl CpsRenderer {
             self.plan.screen
         );
         let levels = self.plan.levels();
-        let mut timer = GpuTimer::new(gpu, 4 * levels + 8);
+        let mut timer = GpuTimer::new(gpu, 6 * levels + 8);
         let queries = OcclusionQueries::new(gpu, levels);
         let draws: Vec<[u32; 4]> = (0..9).map(|_| [3, u32::from(!self.plan.skip_absent_levels_on_gpu), 0, 0]).collect();
         gpu.queue.write_buffer(&self.level_draws, 0, bytemuck::cast_slice(&draws));
@@ -373,6 +374,7 @@ impl CpsRenderer {
             pass.draw(0..3, 0..1);
         }
         self.record_reduce(gpu, encoder, &self.mask, "mask", timer);
+        let Some(stencil) = &self.stencil else { return };
         for level in 0..self.plan.levels() as usize {
             let group = bind_group(
                 gpu,
@@ -386,7 +388,7 @@ impl CpsRenderer {
             );
             let targets = PassTargets {
                 colour: None,
-                stencil: Some((&self.stencil.level_views[level], wgpu::LoadOp::Clear(0))),
+                stencil: Some((&stencil.level_views[level], wgpu::LoadOp::Clear(0))),
                 viewport: self.plan.level_extents[level],
             };
             let mut pass = begin(encoder, &format!("stencil {level}"), targets, timer, None);
@@ -430,12 +432,14 @@ impl CpsRenderer {
             );
             let targets = PassTargets {
                 colour: Some(&self.lit.level_views[level]),
-                stencil: Some((&self.stencil.level_views[level], wgpu::LoadOp::Load)),
+                stencil: self.stencil.as_ref().map(|stencil| (&stencil.level_views[level], wgpu::LoadOp::Load)),
                 viewport: self.plan.level_extents[level],
             };
             let mut pass = begin(encoder, &format!("light {level}"), targets, timer, Some(queries.set()));
             pass.set_pipeline(&self.light_pipeline);
-            pass.set_stencil_reference(1);
+            if self.stencil.is_some() {
+                pass.set_stencil_reference(1);
+            }
             pass.set_bind_group(0, &inputs, &[]);
             pass.set_bind_group(1, &group, &[]);
             pass.begin_occlusion_query(level as u32);

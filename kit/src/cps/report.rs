@@ -1,0 +1,219 @@
+//! `fragkit report cps`: error against GPU time over LOD policy × top level × light count ×
+//! composite mode, with full-resolution deferred shading as the reference and the naive
+//! alternative (every level lit in full, then composited) beside CPS. Written as JSON, a
+//! markdown table and a PNG plot.
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use serde::Serialize;
+
+use super::reference::seam_error;
+use super::renderer::{CpsFrame, CpsRenderer};
+use super::{CompositeMode, CpsConfig, LodPolicy};
+use crate::deferred::DeferredInputs;
+use crate::deferred::lighting::FullResolution;
+use crate::gpu::Gpu;
+use crate::image_compare::{compare, flip_mean};
+use crate::plot::{PlotPoint, scatter};
+use crate::query::GpuTimer;
+use crate::readback::read_texture;
+use crate::scene::corridor::corridor;
+use crate::tonemap::to_display;
+
+/// What to sweep.
+#[derive(Clone, Debug)]
+pub struct CpsSweep {
+    pub size: (u32, u32),
+    pub light_counts: Vec<u32>,
+    pub max_levels: Vec<u32>,
+    pub policies: Vec<LodPolicy>,
+    /// Timed repeats per configuration; the median is reported.
+    pub repeats: u32,
+    pub seed: u32,
+}
+
+impl Default for CpsSweep {
+    fn default() -> Self {
+        Self {
+            size: (320, 180),
+            light_counts: vec![1, 16, 64, 200],
+            max_levels: vec![2, 4, 6],
+            policies: vec![LodPolicy::foveated(), LodPolicy::content()],
+            repeats: 3,
+            seed: 1,
+        }
+    }
+}
+
+/// One measured configuration.
+#[derive(Clone, Debug, Serialize)]
+pub struct CpsReportRow {
+    /// `fullres`, `cps` or `naive`.
+    pub method: String,
+    pub policy: String,
+    pub max_level: u32,
+    pub lights: u32,
+    pub composite: String,
+    /// Median GPU time of the lighting work (G-buffer excluded, the same for every method).
+    pub gpu_ms: f64,
+    /// Of which building the LOD-present and stencil pyramids.
+    pub pyramid_ms: f64,
+    pub psnr_db: f64,
+    pub flip: f64,
+    /// Colour steps across level boundaries against full resolution's (see `seam_error`).
+    pub seam_error: f64,
+    /// Texels lit, all levels together (full resolution: every pixel).
+    pub shaded_texels: u64,
+}
+
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}
+
+fn texels_of(values: &[f32]) -> Vec<[f32; 4]> {
+    values.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect()
+}
+
+/// Renders one CPS configuration `repeats` times after a warm-up; its row.
+fn measure_cps(
+    gpu: &Gpu,
+    sweep: &CpsSweep,
+    config: CpsConfig,
+    inputs: &DeferredInputs,
+    reference: (&image::RgbaImage, &[[f32; 4]]),
+    lights: u32,
+) -> Result<CpsReportRow> {
+    let frame = CpsFrame { gbuffer: &inputs.gbuffer, lights: &inputs.lights, eye: inputs.eye };
+    let renderer = CpsRenderer::new(gpu, sweep.size, config.clone())?;
+    renderer.render(gpu, &frame)?;
+    let mut times = Vec::new();
+    let mut pyramid_times = Vec::new();
+    let mut shaded = 0;
+    for _ in 0..sweep.repeats.max(1) {
+        let output = renderer.render(gpu, &frame)?;
+        times.push(output.gpu_ms(""));
+        pyramid_times.push(output.gpu_ms("mask") + output.gpu_ms("stencil"));
+        shaded = output.shaded_texels.iter().sum();
+    }
+    let hdr = renderer.read_image(gpu)?;
+    let shown = to_display(sweep.size.0, sweep.size.1, &hdr)?;
+    let (difference, _) = compare(&shown, reference.0, 0)?;
+    let lod = renderer.read_lod(gpu)?;
+    Ok(CpsReportRow {
+        method: if config.shade_every_texel { "naive" } else { "cps" }.into(),
+        policy: config.policy.name().into(),
+        max_level: config.max_level,
+        lights,
+        composite: config.composite.name().into(),
+        gpu_ms: median(times),
+        pyramid_ms: median(pyramid_times),
+        psnr_db: difference.psnr_db,
+        flip: f64::from(flip_mean(&shown, reference.0)?),
+        seam_error: seam_error(sweep.size, &lod, &texels_of(&hdr), reference.1),
+        shaded_texels: shaded,
+    })
+}
+
+/// Runs the sweep; one row per configuration, full resolution first for each light count.
+pub fn run_sweep(gpu: &Gpu, sweep: &CpsSweep, mut progress: impl FnMut(&CpsReportRow)) -> Result<Vec<CpsReportRow>> {
+    let mut rows = Vec::new();
+    for &lights in &sweep.light_counts {
+        let inputs = DeferredInputs::new(gpu, &corridor(sweep.seed, lights), sweep.size)?;
+        let fullres = FullResolution::new(gpu, sweep.size);
+        let mut times = Vec::new();
+        // One untimed warm-up, then the repeats.
+        for repeat in 0..=sweep.repeats.max(1) {
+            let mut timer = GpuTimer::new(gpu, 1);
+            fullres.render(gpu, &inputs, &mut timer)?;
+            let ms = timer.read(gpu)?.iter().map(|t| t.ms).sum::<f64>();
+            if repeat > 0 {
+                times.push(ms);
+            }
+        }
+        let hdr = read_texture(gpu, &fullres.target, wgpu::TextureAspect::All, 0)?.as_f16();
+        let reference = (to_display(sweep.size.0, sweep.size.1, &hdr)?, texels_of(&hdr));
+        let row = CpsReportRow {
+            method: "fullres".into(),
+            policy: "-".into(),
+            max_level: 0,
+            lights,
+            composite: "-".into(),
+            gpu_ms: median(times),
+            pyramid_ms: 0.0,
+            psnr_db: f64::INFINITY,
+            flip: 0.0,
+            seam_error: 0.0,
+            shaded_texels: u64::from(sweep.size.0 * sweep.size.1),
+        };
+        progress(&row);
+        rows.push(row);
+        for policy in &sweep.policies {
+            for &max_level in &sweep.max_levels {
+                let configs = CompositeMode::ALL
+                    .into_iter()
+                    .map(|mode| CpsConfig::new(max_level, policy.clone(), mode))
+                    .chain(std::iter::once(CpsConfig::new(max_level, policy.clone(), CompositeMode::Nearest).naive()));
+                for config in configs {
+                    let row = measure_cps(gpu, sweep, config, &inputs, (&reference.0, &reference.1), lights)?;
+                    progress(&row);
+                    rows.push(row);
+                }
+            }
+        }
+    }
+    Ok(rows)
+}
+
+/// Writes `cps_report.json`, `cps_report.md` and `cps_report.png` into `dir`.
+pub fn write_report(dir: &Path, adapter: &crate::gpu::AdapterDescription, rows: &[CpsReportRow]) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let json = serde_json::json!({"adapter": adapter, "rows": rows});
+    std::fs::write(dir.join("cps_report.json"), serde_json::to_string_pretty(&json)?)
+        .context("writing cps_report.json")?;
+
+    let mut markdown = format!(
+        "# CPS: error against GPU time\n\nAdapter: {} ({}). Reference: full-resolution deferred shading. \
+         GPU time: lighting work only (the G-buffer is the same for every method), median of repeats.\n\n\
+         | lights | method | policy | max level | composite | GPU ms | pyramids ms | speed-up | PSNR dB | FLIP | seam error | texels lit |\n\
+         |---:|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|\n",
+        adapter.name, adapter.backend
+    );
+    for row in rows {
+        let fullres_ms =
+            rows.iter().find(|r| r.method == "fullres" && r.lights == row.lights).map_or(f64::NAN, |r| r.gpu_ms);
+        markdown.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {:.2} | {:.2} | {:.2}x | {:.2} | {:.4} | {:.5} | {} |\n",
+            row.lights,
+            row.method,
+            row.policy,
+            row.max_level,
+            row.composite,
+            row.gpu_ms,
+            row.pyramid_ms,
+            fullres_ms / row.gpu_ms,
+            row.psnr_db,
+            row.flip,
+            row.seam_error,
+            row.shaded_texels
+        ));
+    }
+    std::fs::write(dir.join("cps_report.md"), markdown).context("writing cps_report.md")?;
+
+    let points: Vec<PlotPoint> = rows
+        .iter()
+        .map(|r| PlotPoint {
+            series: if r.method == "cps" { format!("cps {}", r.composite) } else { r.method.clone() },
+            x: r.gpu_ms,
+            y: r.flip,
+        })
+        .collect();
+    scatter(
+        &dir.join("cps_report.png"),
+        &format!("CPS error vs GPU time — {}", adapter.name),
+        "GPU time (ms)",
+        "mean FLIP vs full resolution",
+        &points,
+    )
+}
