@@ -11,7 +11,7 @@ use fragkit::deferred::lights::LightTexture;
 use fragkit::harness::{Case, Ctx, Outcome};
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 use fragkit::readback::read_texture;
-use fragkit::scene::corridor::corridor;
+use fragkit::scene::corridor::{Light, corridor};
 
 use super::{corridor_inputs, frame};
 
@@ -77,17 +77,48 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     )?);
 
     // Lights moved onto surface points the G-buffer holds, bit for bit: distance exactly 0 there.
+    // Shading must be finite and continuous: as if each light sat 1 mm above its point along the
+    // surface normal (the limit the shader's distance-0 rule stands for).
     let size = (48, 32);
     let mut scene = corridor(6, 16);
     let mut inputs = corridor_inputs(ctx.gpu, size, 16, 6)?;
     let positions = read_texture(ctx.gpu, &inputs.gbuffer.position, wgpu::TextureAspect::All, 0)?.as_f32();
-    for (i, light) in scene.lights.iter_mut().enumerate() {
-        let pixel = (i * 97) % (size.0 * size.1) as usize;
-        let p = &positions[pixel * 4..pixel * 4 + 4];
-        light.position = glam::Vec3::new(p[0], p[1], p[2]);
+    let normals = read_texture(ctx.gpu, &inputs.gbuffer.normal, wgpu::TextureAspect::All, 0)?.as_f16();
+    let pixels: Vec<usize> = (0..scene.lights.len()).map(|i| (i * 97) % (size.0 * size.1) as usize).collect();
+    let mut lifted = scene.clone();
+    for ((light, lifted), &pixel) in scene.lights.iter_mut().zip(lifted.lights.iter_mut()).zip(&pixels) {
+        let at = |v: &[f32]| glam::Vec3::new(v[pixel * 4], v[pixel * 4 + 1], v[pixel * 4 + 2]);
+        // A 5 cm range keeps each light off the other lights' pixels, where a light in the same
+        // plane would graze the surface and Phong's specular gate jumps for other reasons.
+        light.position = at(&positions);
+        light.range = 0.05;
+        *lifted = Light { position: at(&positions) + 1e-3 * at(&normals).normalize(), ..*light };
     }
+    let all_fine = LodPolicy::Explicit(vec![0; 48 * 32]);
+    inputs.lights = LightTexture::new(ctx.gpu, &lifted.lights)?;
+    let renderer = CpsRenderer::new(ctx.gpu, size, CpsConfig::new(0, all_fine.clone(), CompositeMode::Nearest))?;
+    renderer.render(ctx.gpu, &frame(&inputs))?;
+    let limit = renderer.read_image(ctx.gpu)?;
     inputs.lights = LightTexture::new(ctx.gpu, &scene.lights)?;
-    problems.extend(check_all_modes(ctx, "lights_on_surfaces", &inputs, LodPolicy::Explicit(vec![0; 48 * 32]), exact)?);
+    problems.extend(check_all_modes(ctx, "lights_on_surfaces", &inputs, all_fine, exact)?);
+    renderer.render(ctx.gpu, &frame(&inputs))?;
+    let on_surface = renderer.read_image(ctx.gpu)?;
+    // 1 % of the value: the 1 mm lift changes attenuation by 1e-6, the direction by f16 rounding.
+    let jumps: Vec<usize> = pixels
+        .iter()
+        .copied()
+        .filter(|&p| {
+            (0..3).any(|c| (on_surface[p * 4 + c] - limit[p * 4 + c]).abs() > 0.01 * limit[p * 4 + c].abs().max(1e-3))
+        })
+        .collect();
+    ctx.metric("lights_on_surfaces.discontinuous_pixels", jumps.len());
+    if !jumps.is_empty() {
+        problems.push(format!(
+            "lights on surfaces: shading jumps at {} of {} light pixels against lights 1 mm above",
+            jumps.len(),
+            pixels.len()
+        ));
+    }
 
     Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
 }
