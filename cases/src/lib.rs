@@ -5,6 +5,7 @@ use fragkit::harness::Case;
 
 pub mod cps;
 pub mod kit;
+pub mod oit;
 pub mod texarray;
 
 /// Every case, in the order `fragkit check` runs them.
@@ -24,4 +25,9 @@ pub const ALL: &[Case] = &[
     cps::early_rejection::CASE,
     cps::extremes::CASE,
     texarray::index_exactness::CASE,
+    oit::a2c_transfer::CASE,
+    oit::coverage_stats::CASE,
+    oit::order_independence::CASE,
+    oit::quads_converges::CASE,
+    oit::extremes::CASE,
 ];

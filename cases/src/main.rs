@@ -67,6 +67,22 @@ enum Command {
 
 #[derive(Subcommand)]
 enum Technique {
+    /// Order-independent transparency: every method's image and error map against the exact composite.
+    Oit {
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, default_value = "160x160", value_parser = parse_size)]
+        size: (u32, u32),
+        /// paper, intersecting, or stiff_<layers>.
+        #[arg(long, default_value = "paper")]
+        scene: String,
+        #[arg(long, default_value_t = 4)]
+        samples: u32,
+        #[arg(long, default_value_t = 16)]
+        frames: u32,
+        #[arg(long, default_value_t = 1)]
+        seed: u32,
+    },
     /// Coarse pixel shading: LOD buffer, stencil masks, lit mips, the three composites.
     Cps {
         #[arg(long)]
@@ -168,6 +184,19 @@ fn run(cli: Cli) -> Result<ExitCode> {
 
 fn render(selector: &AdapterSelector, technique: Technique) -> Result<()> {
     match technique {
+        Technique::Oit { out, size, scene, samples, frames, seed } => {
+            let scene = oit_scene(&scene, seed)?;
+            std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+            let gpu = Gpu::open(selector)?;
+            let pictures = gpu.scoped("render oit", || {
+                fragkit::oit::pictures::render_all(&gpu, &scene, size, samples, frames, seed)
+            })?;
+            for (name, image) in pictures {
+                let path = out.join(format!("oit_{}_{name}.png", scene.name));
+                image.save(&path).with_context(|| format!("writing {}", path.display()))?;
+                println!("{}", path.display());
+            }
+        }
         Technique::Cps { out, size, policy, max_level, lights, seed } => {
             let policy = fragkit::cps::LodPolicy::parse(&policy)?;
             std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
@@ -183,6 +212,19 @@ fn render(selector: &AdapterSelector, technique: Technique) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// A named OIT scene: `paper`, `intersecting` or `stiff_<layers>`.
+fn oit_scene(name: &str, seed: u32) -> Result<fragkit::oit::scene::QuadScene> {
+    use fragkit::oit::scene::QuadScene;
+    match name {
+        "paper" => Ok(QuadScene::paper()),
+        "intersecting" => Ok(QuadScene::intersecting()),
+        other => match other.strip_prefix("stiff_").map(str::parse::<u32>) {
+            Some(Ok(layers)) if (1..=256).contains(&layers) => Ok(QuadScene::stiff(layers, seed)),
+            _ => anyhow::bail!("unknown OIT scene {other:?}; expected paper, intersecting or stiff_<1..=256>"),
+        },
+    }
 }
 
 fn report(selector: &AdapterSelector, technique: ReportTechnique) -> Result<()> {

@@ -68,4 +68,9 @@ case_tests! {
     cps_early_rejection => "cps.early_rejection",
     cps_extremes => "cps.extremes",
     texarray_index_exactness => "texarray.index_exactness",
+    oit_a2c_transfer => "oit.a2c.transfer",
+    oit_a2c_coverage_stats => "oit.a2c.coverage_stats",
+    oit_order_independence => "oit.order_independence",
+    oit_quads_converges => "oit.quads.converges",
+    oit_extremes => "oit.extremes",
 }

@@ -11,6 +11,7 @@ pub mod fullscreen;
 pub mod gpu;
 pub mod harness;
 pub mod image_compare;
+pub mod oit;
 pub mod plot;
 pub mod probe;
 pub mod query;

@@ -8,6 +8,7 @@ pub const COMMON: &[(&str, &str)] = &[
     ("common/fullscreen.wgsl", include_str!("../../shaders/common/fullscreen.wgsl")),
     ("common/hash.wgsl", include_str!("../../shaders/common/hash.wgsl")),
     ("common/lighting.wgsl", include_str!("../../shaders/common/lighting.wgsl")),
+    ("common/opacity.wgsl", include_str!("../../shaders/common/opacity.wgsl")),
 ];
 
 /// One pass's shader file, named by its path under `shaders/`.
@@ -47,6 +48,18 @@ shader_files! {
     CPS_FILL_PUSH => "cps/fill_push.wgsl",
     CPS_COMPOSITE => "cps/composite.wgsl",
     TEXARRAY_FETCH => "texarray/fetch.wgsl",
+    OIT_QUAD => "oit/quad.wgsl",
+    OIT_NOISE_STEP => "oit/noise_step.wgsl",
+    OIT_STOCHASTIC => "oit/stochastic.wgsl",
+    OIT_SAMPLE_MASK => "oit/sample_mask.wgsl",
+    OIT_PLAIN_COVERAGE => "oit/plain_coverage.wgsl",
+    OIT_SORTED_BLEND => "oit/sorted_blend.wgsl",
+    OIT_WEIGHTED_ACCUMULATE => "oit/weighted_accumulate.wgsl",
+    OIT_WEIGHTED_COMPOSITE => "oit/weighted_composite.wgsl",
+    OIT_PEEL => "oit/peel.wgsl",
+    OIT_UNDER => "oit/under.wgsl",
+    OIT_TEMPORAL => "oit/temporal.wgsl",
+    OIT_BILATERAL => "oit/bilateral.wgsl",
 }
 
 impl ShaderFile {

@@ -23,3 +23,11 @@ pub fn to_display(width: u32, height: u32, rgba: &[f32]) -> Result<RgbaImage> {
         .collect();
     Ok(RgbaImage::from_raw(width, height, bytes).expect("size checked"))
 }
+
+/// Linear RGB already in 0..1 (no tone curve, clamped) to sRGB display pixels.
+pub fn ldr_to_display(width: u32, height: u32, rgb: &[[f32; 3]]) -> Result<RgbaImage> {
+    ensure!(rgb.len() == (width * height) as usize, "{} pixels for a {width}x{height} image", rgb.len());
+    let encode = |v: f32| (srgb_encode(if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 }) * 255.0).round() as u8;
+    let bytes = rgb.iter().flat_map(|p| [encode(p[0]), encode(p[1]), encode(p[2]), 255]).collect();
+    Ok(RgbaImage::from_raw(width, height, bytes).expect("size checked"))
+}

@@ -1,0 +1,105 @@
+//! `oit.quads.converges`: the temporally accumulated stochastic image of the paper's quads
+//! approaches the exact composite (at this adapter's sample positions) as frames accumulate.
+//! Monte Carlo error falls like 1/√frames, so the fitted slope of log RMSE against log frames
+//! (1, 4, 16, 64) must lie in [−0.65, −0.35] (−0.5 ± 0.15: the RMSE of a few frames is itself
+//! noisy) for the sample-mask variant, which is unbiased. The alpha-to-coverage variants flatten
+//! at a floor (their slope over 1..16 is reported too): a fixed coverage
+//! pattern per count correlates the layers' samples (lavapipe does not dither); their slopes and
+//! floors are reported.
+
+use anyhow::Result;
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::oit::filter::{PostFilter, read_rgb};
+use fragkit::oit::reference::{exact_image, rmse};
+use fragkit::oit::scene::QuadScene;
+use fragkit::oit::stochastic::{
+    PingPongNoise, ResolvedTarget, Stochastic, exact_alpha_table, render_stochastic, sample_mask_output_supported,
+};
+use fragkit::probe::alpha_to_coverage::measure_alpha_to_coverage;
+use fragkit::probe::sample_positions::measure;
+use fragkit::query::GpuTimer;
+
+use super::multisample_counts;
+
+pub const CASE: Case = Case {
+    name: "oit.quads.converges",
+    summary: "accumulated stochastic transparency converges to the exact composite like 1/sqrt(frames)",
+    requires: wgpu::Features::empty(),
+    params: &[ParamSpec { name: "size", kind: ParamKind::Sizes, default: "64x64", help: "target size" }],
+    run,
+};
+
+const CHECKPOINTS: [u32; 4] = [1, 4, 16, 64];
+
+/// Least-squares slope of log(error) against log(frames).
+fn log_slope(points: &[(u32, f64)]) -> f64 {
+    let xs: Vec<f64> = points.iter().map(|&(f, _)| f64::from(f).ln()).collect();
+    let ys: Vec<f64> = points.iter().map(|&(_, e)| e.max(1e-12).ln()).collect();
+    let (mx, my) = (xs.iter().sum::<f64>() / xs.len() as f64, ys.iter().sum::<f64>() / ys.len() as f64);
+    let covariance: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let variance: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
+    covariance / variance
+}
+
+fn run(ctx: &mut Ctx) -> Result<Outcome> {
+    let size = ctx.params.sizes("size")?[0];
+    let frames = *CHECKPOINTS.last().expect("checkpoints");
+    let Some(&samples) = multisample_counts(ctx.gpu).last() else {
+        return Ok(Outcome::NotSupported("multisampling".into()));
+    };
+    // Expected: the exact composite at the positions this adapter samples.
+    let Some(positions) =
+        measure(ctx.gpu, samples)?.agreed().map(|p| p.iter().filter_map(|s| s.mid()).collect::<Vec<_>>())
+    else {
+        return Ok(Outcome::NotSupported(format!(
+            "measured {samples}x sample positions (see kit.msaa.sample_positions)"
+        )));
+    };
+    let scene = QuadScene::paper();
+    let exact = exact_image(&scene, size, &positions);
+
+    let mut variants = vec![Stochastic::Paper];
+    if let Ok(exact_alpha) = exact_alpha_table(&measure_alpha_to_coverage(ctx.gpu, samples, false)?) {
+        variants.push(Stochastic::Corrected { exact_alpha });
+    }
+    let unbiased = sample_mask_output_supported(ctx.gpu, samples);
+    if unbiased {
+        variants.push(Stochastic::SampleMask);
+    }
+    let target = ResolvedTarget::new(ctx.gpu, size, samples);
+    let mut problems = Vec::new();
+    for variant in &variants {
+        let mut noise = PingPongNoise::new(ctx.gpu, size, 11);
+        let mut filter = PostFilter::new(ctx.gpu, size);
+        let mut timer = GpuTimer::new(ctx.gpu, 1);
+        let mut errors = Vec::new();
+        for frame in 1..=frames {
+            if frame > 1 {
+                noise.advance(ctx.gpu);
+            }
+            render_stochastic(ctx.gpu, &scene, &target, &noise, variant, &mut timer)?;
+            filter.accumulate(ctx.gpu, &target.resolved, &mut timer);
+            if CHECKPOINTS.contains(&frame) {
+                errors.push((frame, rmse(&read_rgb(ctx.gpu, filter.accumulated())?, &exact)));
+            }
+        }
+        let early: Vec<(u32, f64)> = errors.iter().copied().filter(|&(f, _)| f <= 16).collect();
+        let (slope_early, slope_all) = (log_slope(&early), log_slope(&errors));
+        let name = fragkit::oit::run::Method::Stochastic(variant.clone()).name();
+        ctx.metric(name, serde_json::json!({"rmse": errors, "slope_1_to_16": slope_early, "slope": slope_all}));
+        if *variant == Stochastic::SampleMask && !(-0.65..=-0.35).contains(&slope_all) {
+            problems
+                .push(format!("{name}: error slope {slope_all:.3} over {CHECKPOINTS:?} frames, expected -0.5 ± 0.15"));
+        }
+    }
+    Ok(if !problems.is_empty() {
+        Outcome::Fail(problems.join("; "))
+    } else if !unbiased {
+        Outcome::NotSupported(
+            "@builtin(sample_mask) output, needed for the unbiased variant; the alpha-to-coverage slopes are reported"
+                .into(),
+        )
+    } else {
+        Outcome::Pass
+    })
+}
