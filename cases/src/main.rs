@@ -103,6 +103,20 @@ enum Technique {
 
 #[derive(Subcommand)]
 enum ReportTechnique {
+    /// OIT: method × sample count × frames × post-filter, against the exact composite.
+    Oit {
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, default_value = "128x128", value_parser = parse_size)]
+        size: (u32, u32),
+        /// paper, intersecting, or stiff_<layers>.
+        #[arg(long, default_value = "paper")]
+        scene: String,
+        #[arg(long, value_delimiter = ',', default_value = "1,4,16,64")]
+        frames: Vec<u32>,
+        #[arg(long, default_value_t = 1)]
+        seed: u32,
+    },
     /// CPS: policy × top level × light count × composite, against full resolution and the naive way.
     Cps {
         #[arg(long)]
@@ -229,6 +243,21 @@ fn oit_scene(name: &str, seed: u32) -> Result<fragkit::oit::scene::QuadScene> {
 
 fn report(selector: &AdapterSelector, technique: ReportTechnique) -> Result<()> {
     match technique {
+        ReportTechnique::Oit { out, size, scene, frames, seed } => {
+            let scene = oit_scene(&scene, seed)?;
+            let sweep = fragkit::oit::report::OitSweep { size, frame_counts: frames, seed };
+            let gpu = Gpu::open(selector)?;
+            let progress = indicatif::ProgressBar::new_spinner();
+            let rows = gpu.scoped("oit report", || {
+                fragkit::oit::report::run_sweep(&gpu, &scene, &sweep, |row| {
+                    progress.set_message(format!("{} {}x {} frames", row.method, row.samples, row.frames));
+                    progress.tick();
+                })
+            })?;
+            progress.finish_and_clear();
+            fragkit::oit::report::write_report(&out, &gpu.description, &rows)?;
+            println!("{}", out.join("oit_report.md").display());
+        }
         ReportTechnique::Cps { out, size, lights, max_levels, repeats } => {
             let sweep = fragkit::cps::report::CpsSweep {
                 size,

@@ -241,7 +241,8 @@ impl Gpu {
     /// [`Gpu::submit`]).
     pub fn encoder(&self, label: &str) -> Encoder {
         let mut inner = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
-        let clock_pair = self.clock.as_ref().and_then(|clock| clock.lock().expect("clock lock").start(&mut inner));
+        let clock_pair =
+            self.clock.as_ref().and_then(|clock| clock.lock().expect("clock lock").start(self, &mut inner));
         Encoder { inner, clock_pair }
     }
 

@@ -6,6 +6,7 @@ pub mod filter;
 pub mod methods;
 pub mod pictures;
 pub mod reference;
+pub mod report;
 pub mod run;
 pub mod scene;
 pub mod stochastic;
