@@ -79,6 +79,8 @@ pub struct GpuTimer {
     queries: Option<ResolvedQueries>,
     labels: Vec<String>,
     period_ns: f64,
+    /// Passes that found the timer full (warned about once).
+    untimed: u32,
 }
 
 /// One timed pass.
@@ -94,7 +96,7 @@ impl GpuTimer {
         let queries = gpu
             .has(wgpu::Features::TIMESTAMP_QUERY)
             .then(|| ResolvedQueries::new(&gpu.device, wgpu::QueryType::Timestamp, passes * 2, "pass timestamps"));
-        Self { queries, labels: Vec::new(), period_ns: f64::from(gpu.queue.get_timestamp_period()) }
+        Self { queries, labels: Vec::new(), period_ns: f64::from(gpu.queue.get_timestamp_period()), untimed: 0 }
     }
 
     pub fn is_active(&self) -> bool {
@@ -107,7 +109,10 @@ impl GpuTimer {
         let queries = self.queries.as_ref()?;
         let index = self.labels.len() as u32 * 2;
         if index + 2 > queries.count {
-            log::warn!("GpuTimer full: pass {label:?} is not timed");
+            if self.untimed == 0 {
+                log::warn!("GpuTimer full: pass {label:?} and later ones are not timed");
+            }
+            self.untimed += 1;
             return None;
         }
         self.labels.push(label.to_owned());

@@ -71,7 +71,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     for variant in &variants {
         let mut noise = PingPongNoise::new(ctx.gpu, size, 11);
         let mut filter = PostFilter::new(ctx.gpu, size);
-        let mut timer = GpuTimer::new(ctx.gpu, 1);
+        let mut timer = GpuTimer::new(ctx.gpu, 2 * frames + 2);
         let mut errors = Vec::new();
         for frame in 1..=frames {
             if frame > 1 {
