@@ -37,9 +37,10 @@ fn oit_methods(c: &mut Criterion) {
     group.finish();
 
     let median = |method: &Method, samples: u32| {
-        let mut v: Vec<f64> = (0..7).map(|_| time(method, samples)).collect();
+        // Timings on a 2-core CPU rasteriser wander by ±30 %: a median of 21 runs.
+        let mut v: Vec<f64> = (0..21).map(|_| time(method, samples)).collect();
         v.sort_by(f64::total_cmp);
-        v[3]
+        v[10]
     };
     let [stochastic, peeling, weighted] = methods.map(|(_, method, samples)| median(&method, samples));
     println!(

@@ -12,7 +12,8 @@ use anyhow::Result;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
 use fragkit::oit::scene::{Quad, QuadScene};
 use fragkit::oit::stochastic::{
-    PingPongNoise, ResolvedTarget, Stochastic, exact_alpha_table, render_stochastic, sample_mask_output_supported,
+    COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, Stochastic, exact_alpha_table, render_stochastic,
+    sample_mask_output_supported,
 };
 use fragkit::probe::alpha_to_coverage::{ALPHA_STEPS, AlphaToCoverage, measure_alpha_to_coverage};
 use fragkit::query::GpuTimer;
@@ -69,7 +70,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         } else {
             ctx.metric(&format!("{samples}x.sample_mask"), "not supported: @builtin(sample_mask) output");
         }
-        let target = ResolvedTarget::new(ctx.gpu, size, samples);
+        let target = ResolvedTarget::new(ctx.gpu, size, samples, COVERAGE_COLOUR);
         for (name, variant) in &variants {
             let mut rows = Vec::new();
             for alpha in ALPHAS {
@@ -86,7 +87,9 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                         noise.advance(ctx.gpu);
                     }
                     render_stochastic(ctx.gpu, &scene, &target, &noise, variant, &mut GpuTimer::new(ctx.gpu, 1))?;
-                    sum += target.read_rgb(ctx.gpu)?.iter().map(|p| f64::from(p[0])).sum::<f64>();
+                    // The 8-bit resolve of k white samples out of N is round(255 k / N) / 255.
+                    let n = f64::from(samples);
+                    sum += target.read_rgb(ctx.gpu)?.iter().map(|p| (f64::from(p[0]) * n).round() / n).sum::<f64>();
                 }
                 let n = f64::from(size.0 * size.1 * frames);
                 let mean = sum / n;

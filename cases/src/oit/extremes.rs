@@ -10,7 +10,8 @@ use fragkit::oit::reference::exact_image;
 use fragkit::oit::run::{Accumulation, Method, run_method};
 use fragkit::oit::scene::{Quad, QuadScene};
 use fragkit::oit::stochastic::{
-    PingPongNoise, ResolvedTarget, Stochastic, exact_alpha_table, render_stochastic, sample_mask_output_supported,
+    COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, Stochastic, exact_alpha_table, render_stochastic,
+    sample_mask_output_supported,
 };
 use fragkit::probe::alpha_to_coverage::measure_alpha_to_coverage;
 use fragkit::query::GpuTimer;
@@ -46,7 +47,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         variants.push(Stochastic::SampleMask);
     }
     let mut problems = Vec::new();
-    let target = ResolvedTarget::new(ctx.gpu, size, samples);
+    let target = ResolvedTarget::new(ctx.gpu, size, samples, COVERAGE_COLOUR);
     for variant in &variants {
         let name = Method::Stochastic(variant.clone()).name();
         for alpha in [0.0, 1e-6, 1e-3, 0.999_999, 1.0] {

@@ -7,7 +7,8 @@ use anyhow::Result;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
 use fragkit::oit::scene::QuadScene;
 use fragkit::oit::stochastic::{
-    PingPongNoise, ResolvedTarget, Stochastic, exact_alpha_table, render_stochastic, sample_mask_output_supported,
+    COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, Stochastic, exact_alpha_table, render_stochastic,
+    sample_mask_output_supported,
 };
 use fragkit::probe::alpha_to_coverage::measure_alpha_to_coverage;
 use fragkit::query::GpuTimer;
@@ -54,7 +55,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     }
     let scene = QuadScene::paper();
     let orders = permutations(&[1, 2, 3, 4]);
-    let target = ResolvedTarget::new(ctx.gpu, size, samples);
+    let target = ResolvedTarget::new(ctx.gpu, size, samples, COVERAGE_COLOUR);
     let noise = PingPongNoise::new(ctx.gpu, size, 5);
     let mut problems = Vec::new();
     for variant in &variants {

@@ -13,7 +13,8 @@ use fragkit::oit::filter::{PostFilter, read_rgb};
 use fragkit::oit::reference::{exact_image, rmse};
 use fragkit::oit::scene::QuadScene;
 use fragkit::oit::stochastic::{
-    PingPongNoise, ResolvedTarget, Stochastic, exact_alpha_table, render_stochastic, sample_mask_output_supported,
+    COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, Stochastic, exact_alpha_table, render_stochastic,
+    sample_mask_output_supported,
 };
 use fragkit::probe::alpha_to_coverage::measure_alpha_to_coverage;
 use fragkit::probe::sample_positions::measure;
@@ -66,7 +67,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     if unbiased {
         variants.push(Stochastic::SampleMask);
     }
-    let target = ResolvedTarget::new(ctx.gpu, size, samples);
+    let target = ResolvedTarget::new(ctx.gpu, size, samples, COVERAGE_COLOUR);
     let mut problems = Vec::new();
     for variant in &variants {
         let mut noise = PingPongNoise::new(ctx.gpu, size, 11);

@@ -45,7 +45,7 @@ pub fn render_plain_coverage(
         label: "plain alpha-to-coverage",
         fragment: shaders::OIT_PLAIN_COVERAGE,
         entry_point: "fs_plain_coverage",
-        targets: &[Some(COLOUR.into())],
+        targets: &[Some(target.format.into())],
         depth_write: true,
         depth_compare: wgpu::CompareFunction::LessEqual,
         samples: target.samples,

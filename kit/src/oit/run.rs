@@ -6,7 +6,7 @@ use anyhow::Result;
 use super::filter::{PostFilter, read_rgb};
 use super::methods::{render_depth_peeling, render_plain_coverage, render_sorted_blend, render_weighted};
 use super::scene::QuadScene;
-use super::stochastic::{PingPongNoise, ResolvedTarget, Stochastic, render_stochastic};
+use super::stochastic::{COLOUR, COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, Stochastic, render_stochastic};
 use crate::gpu::Gpu;
 use crate::query::GpuTimer;
 
@@ -65,7 +65,8 @@ pub fn run_method(
     accumulation: Accumulation,
 ) -> Result<MethodResult> {
     let Accumulation { frames, seed, filtered } = accumulation;
-    let target = ResolvedTarget::new(gpu, size, samples);
+    let format = if method.is_stochastic() || *method == Method::PlainCoverage { COVERAGE_COLOUR } else { COLOUR };
+    let target = ResolvedTarget::new(gpu, size, samples, format);
     let mut timer = GpuTimer::new(gpu, 2 * frames.max(1) + 2 * scene.quads.len() as u32 + 8);
     let mut layers = None;
     let image = match method {

@@ -12,7 +12,11 @@ use crate::readback::read_texture;
 use crate::scene::hash::pcg_hash;
 use crate::shaders::{self, ShaderFile};
 
+/// Accumulations and the single-sampled methods' images.
 pub const COLOUR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// The coverage methods' multisampled colour: 8 bits a channel, as MSAA colour buffers usually
+/// are (on lavapipe a third faster than f16 at 4x); accumulation happens in f16 afterwards.
+pub const COVERAGE_COLOUR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 pub const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 #[repr(C)]
@@ -116,6 +120,7 @@ impl QuadPipeline<'_> {
 pub struct ResolvedTarget {
     pub size: (u32, u32),
     pub samples: u32,
+    pub format: wgpu::TextureFormat,
     pub msaa: Option<(wgpu::TextureView, wgpu::TextureView)>,
     pub depth: wgpu::TextureView,
     pub resolved: wgpu::Texture,
@@ -123,18 +128,18 @@ pub struct ResolvedTarget {
 }
 
 impl ResolvedTarget {
-    pub fn new(gpu: &Gpu, size: (u32, u32), samples: u32) -> Self {
+    pub fn new(gpu: &Gpu, size: (u32, u32), samples: u32, format: wgpu::TextureFormat) -> Self {
         let resolved = gpu.texture(
             "oit image",
             size,
-            COLOUR,
+            format,
             1,
             wgpu::TextureUsages::RENDER_ATTACHMENT
                 | wgpu::TextureUsages::TEXTURE_BINDING
                 | wgpu::TextureUsages::COPY_SRC,
         );
         let msaa = (samples > 1).then(|| {
-            let colour = gpu.texture("oit msaa", size, COLOUR, samples, wgpu::TextureUsages::RENDER_ATTACHMENT);
+            let colour = gpu.texture("oit msaa", size, format, samples, wgpu::TextureUsages::RENDER_ATTACHMENT);
             colour.create_view(&Default::default())
         });
         let depth = gpu
@@ -143,6 +148,7 @@ impl ResolvedTarget {
         Self {
             size,
             samples,
+            format,
             msaa: msaa.map(|view| (view, resolved.create_view(&Default::default()))),
             depth,
             resolved_view: resolved.create_view(&Default::default()),
@@ -168,11 +174,12 @@ impl ResolvedTarget {
 
     /// The resolved image, RGB per pixel.
     pub fn read_rgb(&self, gpu: &Gpu) -> Result<Vec<[f32; 3]>> {
-        Ok(read_texture(gpu, &self.resolved, wgpu::TextureAspect::All, 0)?
-            .as_f16()
-            .chunks_exact(4)
-            .map(|t| [t[0], t[1], t[2]])
-            .collect())
+        let texels = read_texture(gpu, &self.resolved, wgpu::TextureAspect::All, 0)?;
+        let values: Vec<f32> = match self.format {
+            wgpu::TextureFormat::Rgba8Unorm => texels.bytes.iter().map(|&b| f32::from(b) / 255.0).collect(),
+            _ => texels.as_f16(),
+        };
+        Ok(values.chunks_exact(4).map(|t| [t[0], t[1], t[2]]).collect())
     }
 }
 
@@ -272,7 +279,7 @@ pub fn render_stochastic(
         label: "stochastic transparency",
         fragment,
         entry_point: entry,
-        targets: &[Some(COLOUR.into())],
+        targets: &[Some(target.format.into())],
         depth_write: true,
         depth_compare: wgpu::CompareFunction::LessEqual,
         samples: target.samples,
