@@ -3,6 +3,7 @@
 
 use fragkit::harness::Case;
 
+pub mod cbr;
 pub mod cps;
 pub mod kit;
 pub mod oit;
@@ -30,4 +31,6 @@ pub const ALL: &[Case] = &[
     oit::order_independence::CASE,
     oit::quads_converges::CASE,
     oit::extremes::CASE,
+    cbr::sample_quadrants::CASE,
+    cbr::jitter_coverage::CASE,
 ];

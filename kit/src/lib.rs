@@ -5,6 +5,7 @@
 
 pub mod attachments;
 pub mod caps;
+pub mod cbr;
 pub mod cps;
 pub mod deferred;
 pub mod fullscreen;

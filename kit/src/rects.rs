@@ -94,6 +94,8 @@ pub enum RectFragment {
     SampleCoverageRecord,
     /// `shaders/kit/alpha_ramp.wgsl` (alpha from the column; binds a uniform at group 0).
     AlphaRamp,
+    /// `shaders/cbr/sample_id_record.wgsl` (per-sample pixel ids; uniform + storage at group 0).
+    SamplePixelRecord,
 }
 
 /// The fixed-function state of a rect pipeline.
@@ -131,6 +133,7 @@ impl RectPipeline {
             RectFragment::SamplePosition => Some((shaders::SAMPLE_POSITION, "fs_sample_position")),
             RectFragment::SampleCoverageRecord => Some((shaders::SAMPLE_COVERAGE_RECORD, "fs_record_sample")),
             RectFragment::AlphaRamp => Some((shaders::ALPHA_RAMP, "fs_alpha_ramp")),
+            RectFragment::SamplePixelRecord => Some((shaders::CBR_SAMPLE_ID_RECORD, "fs_record_sample_pixel")),
         };
         let fragment = fragment_file.map(|(file, entry)| (file.module(gpu), entry));
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

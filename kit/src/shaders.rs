@@ -48,6 +48,7 @@ shader_files! {
     CPS_FILL_PUSH => "cps/fill_push.wgsl",
     CPS_COMPOSITE => "cps/composite.wgsl",
     TEXARRAY_FETCH => "texarray/fetch.wgsl",
+    CBR_SAMPLE_ID_RECORD => "cbr/sample_id_record.wgsl",
     OIT_QUAD => "oit/quad.wgsl",
     OIT_NOISE_STEP => "oit/noise_step.wgsl",
     OIT_STOCHASTIC => "oit/stochastic.wgsl",

@@ -251,7 +251,7 @@ pub struct PerSampleShading {
 }
 
 /// A storage buffer for fragment records plus its read-back twin.
-fn storage_pair(gpu: &Gpu, label: &str, size: u64) -> (wgpu::Buffer, wgpu::Buffer) {
+pub(crate) fn storage_pair(gpu: &Gpu, label: &str, size: u64) -> (wgpu::Buffer, wgpu::Buffer) {
     let storage = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size,
@@ -269,7 +269,7 @@ fn storage_pair(gpu: &Gpu, label: &str, size: u64) -> (wgpu::Buffer, wgpu::Buffe
 
 /// Draws `rects` on an N-sample depth-stencil-only target with a recording fragment shader
 /// bound at group 0 and returns the storage buffer's bytes.
-fn record_fragments(
+pub(crate) fn record_fragments(
     gpu: &Gpu,
     size: (u32, u32),
     samples: u32,
@@ -277,6 +277,7 @@ fn record_fragments(
     rects: &[(Rect, [f32; 4])],
     bindings: &[wgpu::BindingResource<'_>],
     storage: (&wgpu::Buffer, &wgpu::Buffer),
+    fill: u32,
 ) -> Result<Vec<u8>> {
     let format = wgpu::TextureFormat::Depth24PlusStencil8;
     let depth = gpu.texture("recording target", size, format, samples, wgpu::TextureUsages::RENDER_ATTACHMENT);
@@ -294,8 +295,10 @@ fn record_fragments(
     .create(gpu);
     let bind_group = bind_group(gpu, "recording bindings", &pipeline, 0, bindings);
     let batch = RectBatch::new(gpu, size, rects);
+    // Every word starts as `fill`, so untouched slots are told apart from written ones.
+    let words = (storage.0.size() / 4) as usize;
+    gpu.queue.write_buffer(storage.0, 0, bytemuck::cast_slice(&vec![fill; words]));
     let mut encoder = gpu.encoder("recording draw");
-    encoder.clear_buffer(storage.0, 0, None);
     {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("recording draw"),
@@ -329,6 +332,7 @@ fn covered_counts_by_storage(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<
         &axis.sweep_rects(),
         &[strip.as_entire_binding(), storage.as_entire_binding()],
         (&storage, &readback),
+        0,
     )?;
     let covered: &[u32] = bytemuck::cast_slice(&bytes);
     let pixels = || covered.chunks_exact(SLOTS_PER_PIXEL as usize);
@@ -366,6 +370,7 @@ pub fn measure_per_sample_shading(gpu: &Gpu, samples: u32) -> Result<PerSampleSh
             &[(Rect::full(1, 1), [1.0; 4])],
             &[storage.as_entire_binding()],
             (&storage, &readback),
+            0,
         )?;
         let words: &[u32] = bytemuck::cast_slice(&bytes);
         let invocations = words[0];

@@ -1,0 +1,4 @@
+//! `cbr.*`: checkerboard rendering.
+
+pub mod jitter_coverage;
+pub mod sample_quadrants;

@@ -1,0 +1,141 @@
+//! Where checkerboard samples land. A quarter-resolution pixel q has two samples at positions
+//! p_s (pixel-relative; the standard 2x table: s0 (0.75, 0.75), s1 (0.25, 0.25)); with the view
+//! jittered j full-resolution pixels right (j = 0 or 1, by frame parity) sample s of q sees the
+//! full-resolution point 2 (q + p_s) + (j, 0), the centre of pixel floor of it. Sample indices come
+//! from `sample_index` and the measured positions, never from `@builtin(position)`, whose meaning
+//! differs between drivers.
+//!
+//! Two paths produce these samples: a real 2x MSAA target (where the kit measured one with the
+//! standard positions), or, compute-free and everywhere, two single-sampled quarter-resolution
+//! passes whose projections are offset by ±1/4 of a quarter-resolution pixel so that their pixel
+//! centres fall where the 2x samples would.
+
+use anyhow::{Result, ensure};
+use serde::Serialize;
+
+use crate::caps::matches_standard;
+use crate::gpu::Gpu;
+use crate::probe::sample_positions::{measure, standard_positions};
+
+/// How a frame's two samples per quarter-resolution pixel are produced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CheckerboardPath {
+    /// One 2x multisampled pass, shaded per sample.
+    Msaa2x,
+    /// Two single-sampled passes, projections offset by ∓1/4 quarter-resolution pixel.
+    OffsetPasses,
+}
+
+impl CheckerboardPath {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Msaa2x => "msaa2x",
+            Self::OffsetPasses => "offset_passes",
+        }
+    }
+
+    /// The real 2x path where this adapter renders a real 2x target at the standard positions,
+    /// the offset passes otherwise (the flag alone is not trusted: llvmpipe's GL "2x" runs 4).
+    pub fn for_adapter(gpu: &Gpu) -> Self {
+        let real_2x = crate::caps::common_sample_counts(gpu).contains(&2)
+            && measure(gpu, 2).is_ok_and(|m| m.agreed().is_some_and(|p| matches_standard(2, p)));
+        if real_2x { Self::Msaa2x } else { Self::OffsetPasses }
+    }
+}
+
+/// The standard 2x sample positions, pixel-relative.
+pub fn sample_positions() -> [[f32; 2]; 2] {
+    let table = standard_positions(2).expect("the 2x table exists");
+    [table[0], table[1]]
+}
+
+/// Quarter-resolution size of a full-resolution screen.
+pub fn quarter_size((width, height): (u32, u32)) -> (u32, u32) {
+    (width.div_ceil(2), height.div_ceil(2))
+}
+
+/// The full-resolution pixel sample `sample` of quarter pixel `q` covers in jitter phase `phase`
+/// (possibly outside the screen).
+pub fn sample_pixel(q: (u32, u32), sample: usize, phase: u32, positions: &[[f32; 2]; 2]) -> (i64, i64) {
+    let [px, py] = positions[sample];
+    let x = 2.0 * (q.0 as f32 + px) + phase as f32;
+    let y = 2.0 * (q.1 as f32 + py);
+    (x.floor() as i64, y.floor() as i64)
+}
+
+/// For each full-resolution pixel, how many samples of the two phases land on it.
+pub fn coverage_counts(screen: (u32, u32), positions: &[[f32; 2]; 2]) -> Vec<u32> {
+    let (qw, qh) = quarter_size(screen);
+    let mut counts = vec![0u32; (screen.0 * screen.1) as usize];
+    for phase in 0..2 {
+        for qy in 0..qh {
+            for qx in 0..qw {
+                for sample in 0..2 {
+                    let (x, y) = sample_pixel((qx, qy), sample, phase, positions);
+                    if (0..i64::from(screen.0)).contains(&x) && (0..i64::from(screen.1)).contains(&y) {
+                        counts[(y as u32 * screen.0 + x as u32) as usize] += 1;
+                    }
+                }
+            }
+        }
+    }
+    counts
+}
+
+/// The pixels the two phases leave unsampled by construction: the first column's odd rows
+/// (phase 1 shifts the odd rows' samples right; nothing lands on x = 0 there).
+pub fn documented_gaps(screen: (u32, u32)) -> Vec<(u32, u32)> {
+    (0..screen.1).filter(|y| y % 2 == 1).map(|y| (0, y)).collect()
+}
+
+/// The jittered frames' projection offset in quarter-resolution pixels for the offset-pass path:
+/// a pass whose pixel centre q + 1/2 must sample where sample s would, q + p_s.
+pub fn offset_for_sample(sample: usize, positions: &[[f32; 2]; 2]) -> [f32; 2] {
+    let [px, py] = positions[sample];
+    [0.5 - px, 0.5 - py]
+}
+
+/// Checks a screen size for checkerboarding (at least 2×2: a quarter pixel needs its diagonal).
+pub fn check_screen(screen: (u32, u32)) -> Result<()> {
+    ensure!(screen.0 >= 2 && screen.1 >= 2, "checkerboard screen {screen:?} is smaller than 2x2");
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_2x_table_puts_samples_on_diagonal_pixel_centres() {
+        let positions = sample_positions();
+        // Phase 0: s1 on the top-left pixel of the 2×2 block, s0 on the bottom-right.
+        assert_eq!(sample_pixel((3, 5), 1, 0, &positions), (6, 10));
+        assert_eq!(sample_pixel((3, 5), 0, 0, &positions), (7, 11));
+        // Phase 1: one pixel to the right, the anti-diagonal (s0 in the next block's row).
+        assert_eq!(sample_pixel((3, 5), 1, 1, &positions), (7, 10));
+        assert_eq!(sample_pixel((3, 5), 0, 1, &positions), (8, 11));
+    }
+
+    #[test]
+    fn two_phases_hit_every_pixel_once_but_the_documented_column() {
+        let positions = sample_positions();
+        for screen in [(2, 2), (7, 5), (64, 48), (33, 17)] {
+            let counts = coverage_counts(screen, &positions);
+            let gaps = documented_gaps(screen);
+            for y in 0..screen.1 {
+                for x in 0..screen.0 {
+                    let expected = u32::from(!gaps.contains(&(x, y)));
+                    assert_eq!(counts[(y * screen.0 + x) as usize], expected, "{screen:?} pixel ({x}, {y})");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn offset_passes_centre_on_the_2x_positions() {
+        let positions = sample_positions();
+        assert_eq!(offset_for_sample(0, &positions), [-0.25, -0.25]);
+        assert_eq!(offset_for_sample(1, &positions), [0.25, 0.25]);
+    }
+}
