@@ -12,7 +12,12 @@ pub const CASE: Case = Case {
     name: "cbr.jitter.coverage",
     summary: "two jittered frames sample every full-resolution pixel once, bar the documented column",
     requires: wgpu::Features::empty(),
-    params: &[ParamSpec { name: "sizes", kind: ParamKind::Sizes, default: "2x2,7x5,33x17,64x48", help: "full-resolution sizes" }],
+    params: &[ParamSpec {
+        name: "sizes",
+        kind: ParamKind::Sizes,
+        default: "2x2,7x5,33x17,64x48",
+        help: "full-resolution sizes",
+    }],
     run,
 };
 

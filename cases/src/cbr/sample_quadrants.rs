@@ -12,7 +12,12 @@ pub const CASE: Case = Case {
     name: "cbr.sample_quadrants",
     summary: "every checkerboard sample lands on its full-resolution pixel centre, both phases",
     requires: wgpu::Features::empty(),
-    params: &[ParamSpec { name: "sizes", kind: ParamKind::Sizes, default: "2x2,7x5,64x48", help: "full-resolution sizes" }],
+    params: &[ParamSpec {
+        name: "sizes",
+        kind: ParamKind::Sizes,
+        default: "2x2,7x5,64x48",
+        help: "full-resolution sizes",
+    }],
     run,
 };
 
@@ -41,7 +46,13 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             }
             ctx.metric(&format!("{}x{}.phase{phase}.wrong_samples", screen.0, screen.1), wrong.len());
             if !wrong.is_empty() {
-                problems.push(format!("{}x{} phase {phase}: {} samples misplaced, e.g. {}", screen.0, screen.1, wrong.len(), wrong[..wrong.len().min(3)].join(", ")));
+                problems.push(format!(
+                    "{}x{} phase {phase}: {} samples misplaced, e.g. {}",
+                    screen.0,
+                    screen.1,
+                    wrong.len(),
+                    wrong[..wrong.len().min(3)].join(", ")
+                ));
             }
         }
     }

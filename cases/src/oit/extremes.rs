@@ -10,10 +10,8 @@ use fragkit::oit::reference::exact_image;
 use fragkit::oit::run::{Accumulation, Method, run_method};
 use fragkit::oit::scene::{Quad, QuadScene};
 use fragkit::oit::stochastic::{
-    COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, Stochastic, exact_alpha_table, render_stochastic,
-    sample_mask_output_supported,
+    COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, Stochastic, available_variants, render_stochastic,
 };
-use fragkit::probe::alpha_to_coverage::measure_alpha_to_coverage;
 use fragkit::query::GpuTimer;
 use fragkit::scene::hash::SeededRng;
 
@@ -39,13 +37,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let Some(&samples) = multisample_counts(ctx.gpu).last() else {
         return Ok(Outcome::NotSupported("multisampling".into()));
     };
-    let mut variants = vec![Stochastic::Paper];
-    if let Ok(exact_alpha) = exact_alpha_table(&measure_alpha_to_coverage(ctx.gpu, samples, false)?) {
-        variants.push(Stochastic::Corrected { exact_alpha });
-    }
-    if sample_mask_output_supported(ctx.gpu, samples) {
-        variants.push(Stochastic::SampleMask);
-    }
+    let variants = available_variants(ctx.gpu, samples)?;
     let mut problems = Vec::new();
     let target = ResolvedTarget::new(ctx.gpu, size, samples, COVERAGE_COLOUR);
     for variant in &variants {

@@ -6,11 +6,7 @@
 use anyhow::Result;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
 use fragkit::oit::scene::QuadScene;
-use fragkit::oit::stochastic::{
-    COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, Stochastic, exact_alpha_table, render_stochastic,
-    sample_mask_output_supported,
-};
-use fragkit::probe::alpha_to_coverage::measure_alpha_to_coverage;
+use fragkit::oit::stochastic::{COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, available_variants, render_stochastic};
 use fragkit::query::GpuTimer;
 use fragkit::readback::read_texture;
 
@@ -46,13 +42,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let Some(&samples) = multisample_counts(ctx.gpu).last() else {
         return Ok(Outcome::NotSupported("multisampling".into()));
     };
-    let mut variants = vec![Stochastic::Paper];
-    if let Ok(exact_alpha) = exact_alpha_table(&measure_alpha_to_coverage(ctx.gpu, samples, false)?) {
-        variants.push(Stochastic::Corrected { exact_alpha });
-    }
-    if sample_mask_output_supported(ctx.gpu, samples) {
-        variants.push(Stochastic::SampleMask);
-    }
+    let variants = available_variants(ctx.gpu, samples)?;
     let scene = QuadScene::paper();
     let orders = permutations(&[1, 2, 3, 4]);
     let target = ResolvedTarget::new(ctx.gpu, size, samples, COVERAGE_COLOUR);

@@ -13,10 +13,8 @@ use fragkit::oit::filter::{PostFilter, read_rgb};
 use fragkit::oit::reference::{exact_image, rmse};
 use fragkit::oit::scene::QuadScene;
 use fragkit::oit::stochastic::{
-    COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, Stochastic, exact_alpha_table, render_stochastic,
-    sample_mask_output_supported,
+    COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, Stochastic, available_variants, render_stochastic,
 };
-use fragkit::probe::alpha_to_coverage::measure_alpha_to_coverage;
 use fragkit::probe::sample_positions::measure;
 use fragkit::query::GpuTimer;
 
@@ -59,14 +57,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let scene = QuadScene::paper();
     let exact = exact_image(&scene, size, &positions);
 
-    let mut variants = vec![Stochastic::Paper];
-    if let Ok(exact_alpha) = exact_alpha_table(&measure_alpha_to_coverage(ctx.gpu, samples, false)?) {
-        variants.push(Stochastic::Corrected { exact_alpha });
-    }
-    let unbiased = sample_mask_output_supported(ctx.gpu, samples);
-    if unbiased {
-        variants.push(Stochastic::SampleMask);
-    }
+    let variants = available_variants(ctx.gpu, samples)?;
+    let unbiased = variants.contains(&Stochastic::SampleMask);
     let target = ResolvedTarget::new(ctx.gpu, size, samples, COVERAGE_COLOUR);
     let mut problems = Vec::new();
     for variant in &variants {

@@ -9,9 +9,12 @@ use super::sampling::{CheckerboardPath, offset_for_sample, quarter_size, sample_
 use crate::attachments;
 use crate::fullscreen::uniform_buffer;
 use crate::gpu::Gpu;
-use crate::probe::sample_positions::{record_fragments, storage_pair};
+use crate::probe::sample_positions::{RecordStorage, record_fragments, storage_pair};
 use crate::readback::read_rgba8;
 use crate::rects::{Rect, RectBatch, RectFragment, RectPipeline};
+
+/// The full-resolution pixel each of a quarter pixel's two samples landed on (None: no rect there).
+pub type Landing = [Option<(u32, u32)>; 2];
 
 /// What no rect covered.
 const NOTHING: u32 = u32::MAX;
@@ -44,18 +47,30 @@ fn pixel_rects(screen: (u32, u32), phase: u32, offset: [f32; 2]) -> Vec<(Rect, [
 }
 
 /// Per quarter pixel (row-major), the full-resolution pixel each of its two samples landed on.
-pub fn measure_landing(gpu: &Gpu, screen: (u32, u32), path: CheckerboardPath, phase: u32) -> Result<Vec<[Option<(u32, u32)>; 2]>> {
+pub fn measure_landing(gpu: &Gpu, screen: (u32, u32), path: CheckerboardPath, phase: u32) -> Result<Vec<Landing>> {
     let quarter = quarter_size(screen);
     let count = (quarter.0 * quarter.1) as usize;
     gpu.scoped("checkerboard sample landing", || match path {
         CheckerboardPath::OffsetPasses => {
             let positions = sample_positions();
             let format = wgpu::TextureFormat::Rgba8Unorm;
-            let pipeline = RectPipeline { colour_format: Some(format), fragment: RectFragment::InstanceColour, ..RectPipeline::new("pixel ids") }.create(gpu);
+            let pipeline = RectPipeline {
+                colour_format: Some(format),
+                fragment: RectFragment::InstanceColour,
+                ..RectPipeline::new("pixel ids")
+            }
+            .create(gpu);
             let mut landed = vec![[None; 2]; count];
             for sample in 0..2 {
-                let rects = RectBatch::new(gpu, quarter, &pixel_rects(screen, phase, offset_for_sample(sample, &positions)));
-                let target = gpu.texture("pixel ids", quarter, format, 1, wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC);
+                let rects =
+                    RectBatch::new(gpu, quarter, &pixel_rects(screen, phase, offset_for_sample(sample, &positions)));
+                let target = gpu.texture(
+                    "pixel ids",
+                    quarter,
+                    format,
+                    1,
+                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                );
                 let view = target.create_view(&Default::default());
                 let mut encoder = gpu.encoder("pixel ids");
                 {
@@ -85,8 +100,7 @@ pub fn measure_landing(gpu: &Gpu, screen: (u32, u32), path: CheckerboardPath, ph
                 RectFragment::SamplePixelRecord,
                 &rects,
                 &[grid.as_entire_binding(), storage.as_entire_binding()],
-                (&storage, &readback),
-                NOTHING,
+                RecordStorage { buffer: &storage, readback: &readback, fill: NOTHING },
             )?;
             let words: &[u32] = bytemuck::cast_slice(&bytes);
             Ok(words.chunks_exact(2).map(|w| [decode(w[0]), decode(w[1])]).collect())

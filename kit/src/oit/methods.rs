@@ -12,6 +12,12 @@ use crate::gpu::Gpu;
 use crate::query::{GpuTimer, OcclusionQueries};
 use crate::shaders;
 
+/// A blend state adding `src ×` source to `dst ×` destination, colour and alpha alike.
+fn same_blend(src: wgpu::BlendFactor, dst: wgpu::BlendFactor) -> wgpu::BlendState {
+    let component = wgpu::BlendComponent { src_factor: src, dst_factor: dst, operation: wgpu::BlendOperation::Add };
+    wgpu::BlendState { color: component, alpha: component }
+}
+
 /// Opaque quads first (colour and depth), as every method needs them.
 fn draw_opaque(gpu: &Gpu, pass: &mut wgpu::RenderPass<'_>, scene: &QuadScene, quads: &QuadBatch, samples: u32) {
     let pipeline = QuadPipeline {
@@ -81,14 +87,7 @@ pub fn sortable(scene: &QuadScene) -> bool {
 pub fn render_sorted_blend(gpu: &Gpu, scene: &QuadScene, target: &ResolvedTarget, timer: &mut GpuTimer) -> Result<()> {
     ensure!(sortable(scene), "scene {:?} cannot be sorted per object (equal depths or tilted quads)", scene.name);
     let quads = QuadBatch::new(gpu, scene)?;
-    let over = wgpu::BlendState {
-        color: wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
-            operation: wgpu::BlendOperation::Add,
-        },
-        alpha: wgpu::BlendComponent::OVER,
-    };
+    let over = wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING;
     let pipeline = QuadPipeline {
         label: "sorted blend",
         fragment: shaders::OIT_SORTED_BLEND,
@@ -135,30 +134,8 @@ pub fn render_weighted(gpu: &Gpu, scene: &QuadScene, target: &ResolvedTarget, ti
     let revealage = gpu.texture("wboit revealage", target.size, COLOUR, 1, usage);
     let (accumulation_view, revealage_view) =
         (accumulation.create_view(&Default::default()), revealage.create_view(&Default::default()));
-    let add = wgpu::BlendState {
-        color: wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        },
-        alpha: wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        },
-    };
-    let reveal = wgpu::BlendState {
-        color: wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::Zero,
-            dst_factor: wgpu::BlendFactor::OneMinusSrc,
-            operation: wgpu::BlendOperation::Add,
-        },
-        alpha: wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::Zero,
-            dst_factor: wgpu::BlendFactor::OneMinusSrc,
-            operation: wgpu::BlendOperation::Add,
-        },
-    };
+    let add = same_blend(wgpu::BlendFactor::One, wgpu::BlendFactor::One);
+    let reveal = same_blend(wgpu::BlendFactor::Zero, wgpu::BlendFactor::OneMinusSrc);
     let accumulate = QuadPipeline {
         label: "weighted accumulate",
         fragment: shaders::OIT_WEIGHTED_ACCUMULATE,
@@ -173,14 +150,7 @@ pub fn render_weighted(gpu: &Gpu, scene: &QuadScene, target: &ResolvedTarget, ti
         alpha_to_coverage: false,
     }
     .create(gpu);
-    let over = wgpu::BlendState {
-        color: wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
-            operation: wgpu::BlendOperation::Add,
-        },
-        alpha: wgpu::BlendComponent::OVER,
-    };
+    let over = wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING;
     let composite = FullscreenPipeline {
         label: "weighted composite",
         fragment: shaders::OIT_WEIGHTED_COMPOSITE,
@@ -293,18 +263,7 @@ pub fn render_depth_peeling(
         alpha_to_coverage: false,
     }
     .create(gpu);
-    let under = wgpu::BlendState {
-        color: wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::OneMinusDstAlpha,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        },
-        alpha: wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::OneMinusDstAlpha,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        },
-    };
+    let under = same_blend(wgpu::BlendFactor::OneMinusDstAlpha, wgpu::BlendFactor::One);
     let accumulate = FullscreenPipeline {
         label: "under",
         fragment: shaders::OIT_UNDER,

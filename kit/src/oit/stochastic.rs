@@ -366,3 +366,19 @@ pub fn sample_mask_output_supported(gpu: &Gpu, samples: u32) -> bool {
     })
     .is_ok()
 }
+
+/// The stochastic variants this adapter can run at `samples` per pixel: always the paper's; the
+/// corrected one where the measured transfer is a plain staircase; the sample-mask one where the
+/// `sample_mask` output pipeline builds.
+pub fn available_variants(gpu: &Gpu, samples: u32) -> Result<Vec<Stochastic>> {
+    let mut variants = vec![Stochastic::Paper];
+    if let Ok(exact_alpha) =
+        exact_alpha_table(&crate::probe::alpha_to_coverage::measure_alpha_to_coverage(gpu, samples, false)?)
+    {
+        variants.push(Stochastic::Corrected { exact_alpha });
+    }
+    if sample_mask_output_supported(gpu, samples) {
+        variants.push(Stochastic::SampleMask);
+    }
+    Ok(variants)
+}

@@ -269,6 +269,14 @@ pub(crate) fn storage_pair(gpu: &Gpu, label: &str, size: u64) -> (wgpu::Buffer, 
 
 /// Draws `rects` on an N-sample depth-stencil-only target with a recording fragment shader
 /// bound at group 0 and returns the storage buffer's bytes.
+/// Where a recording draw writes: a storage buffer (every word first set to `fill`) and its
+/// read-back twin.
+pub(crate) struct RecordStorage<'a> {
+    pub buffer: &'a wgpu::Buffer,
+    pub readback: &'a wgpu::Buffer,
+    pub fill: u32,
+}
+
 pub(crate) fn record_fragments(
     gpu: &Gpu,
     size: (u32, u32),
@@ -276,8 +284,7 @@ pub(crate) fn record_fragments(
     fragment: RectFragment,
     rects: &[(Rect, [f32; 4])],
     bindings: &[wgpu::BindingResource<'_>],
-    storage: (&wgpu::Buffer, &wgpu::Buffer),
-    fill: u32,
+    storage: RecordStorage<'_>,
 ) -> Result<Vec<u8>> {
     let format = wgpu::TextureFormat::Depth24PlusStencil8;
     let depth = gpu.texture("recording target", size, format, samples, wgpu::TextureUsages::RENDER_ATTACHMENT);
@@ -296,8 +303,8 @@ pub(crate) fn record_fragments(
     let bind_group = bind_group(gpu, "recording bindings", &pipeline, 0, bindings);
     let batch = RectBatch::new(gpu, size, rects);
     // Every word starts as `fill`, so untouched slots are told apart from written ones.
-    let words = (storage.0.size() / 4) as usize;
-    gpu.queue.write_buffer(storage.0, 0, bytemuck::cast_slice(&vec![fill; words]));
+    let words = (storage.buffer.size() / 4) as usize;
+    gpu.queue.write_buffer(storage.buffer, 0, bytemuck::cast_slice(&vec![storage.fill; words]));
     let mut encoder = gpu.encoder("recording draw");
     {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -309,9 +316,9 @@ pub(crate) fn record_fragments(
         pass.set_bind_group(0, &bind_group, &[]);
         batch.draw(&mut pass, ..);
     }
-    encoder.copy_buffer_to_buffer(storage.0, 0, storage.1, 0, None);
+    encoder.copy_buffer_to_buffer(storage.buffer, 0, storage.readback, 0, None);
     gpu.submit(encoder);
-    map_buffer(gpu, storage.1)
+    map_buffer(gpu, storage.readback)
 }
 
 /// Sample-index slots per pixel in the storage route; the last one also catches larger indices.
@@ -331,8 +338,7 @@ fn covered_counts_by_storage(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<
         RectFragment::SampleCoverageRecord,
         &axis.sweep_rects(),
         &[strip.as_entire_binding(), storage.as_entire_binding()],
-        (&storage, &readback),
-        0,
+        RecordStorage { buffer: &storage, readback: &readback, fill: 0 },
     )?;
     let covered: &[u32] = bytemuck::cast_slice(&bytes);
     let pixels = || covered.chunks_exact(SLOTS_PER_PIXEL as usize);
@@ -369,8 +375,7 @@ pub fn measure_per_sample_shading(gpu: &Gpu, samples: u32) -> Result<PerSampleSh
             RectFragment::SamplePosition,
             &[(Rect::full(1, 1), [1.0; 4])],
             &[storage.as_entire_binding()],
-            (&storage, &readback),
-            0,
+            RecordStorage { buffer: &storage, readback: &readback, fill: 0 },
         )?;
         let words: &[u32] = bytemuck::cast_slice(&bytes);
         let invocations = words[0];
