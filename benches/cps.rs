@@ -12,7 +12,7 @@ use fragkit::cps::renderer::CpsFrame;
 use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy};
 use fragkit::deferred::DeferredInputs;
 use fragkit::deferred::lighting::FullResolution;
-use fragkit::query::GpuTimer;
+use fragkit::query::{GpuTimer, median};
 use fragkit::scene::corridor::corridor;
 use fragkit::{AdapterSelector, Gpu};
 
@@ -50,12 +50,7 @@ fn cps_vs_full_resolution(c: &mut Criterion) {
     group.finish();
 
     // The ratio the target is stated in, from medians of fresh runs.
-    let median = |f: &dyn Fn() -> f64| {
-        let mut v: Vec<f64> = (0..9).map(|_| f()).collect();
-        v.sort_by(f64::total_cmp);
-        v[4]
-    };
-    let (full, coarse) = (median(&full_ms), median(&cps_ms));
+    let (full, coarse) = (median((0..9).map(|_| full_ms()).collect()), median((0..9).map(|_| cps_ms()).collect()));
     let shaded: u64 = cps.render(&gpu, &frame).unwrap_or_else(|e| panic!("{e:#}")).shaded_texels.iter().sum();
     let ideal = f64::from(SIZE.0 * SIZE.1) / shaded as f64;
     let speedup = full / coarse;

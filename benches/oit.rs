@@ -9,6 +9,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use fragkit::oit::run::{Accumulation, Method, run_method};
 use fragkit::oit::scene::QuadScene;
 use fragkit::oit::stochastic::Stochastic;
+use fragkit::query::median;
 use fragkit::{AdapterSelector, Gpu};
 
 const SIZE: (u32, u32) = (256, 256);
@@ -36,13 +37,9 @@ fn oit_methods(c: &mut Criterion) {
     }
     group.finish();
 
-    let median = |method: &Method, samples: u32| {
-        // Timings on a 2-core CPU rasteriser wander by ±30 %: a median of 21 runs.
-        let mut v: Vec<f64> = (0..21).map(|_| time(method, samples)).collect();
-        v.sort_by(f64::total_cmp);
-        v[10]
-    };
-    let [stochastic, peeling, weighted] = methods.map(|(_, method, samples)| median(&method, samples));
+    // Timings on a 2-core CPU rasteriser wander by ±30 %: a median of 21 runs.
+    let [stochastic, peeling, weighted] =
+        methods.map(|(_, method, samples)| median((0..21).map(|_| time(&method, samples)).collect()));
     println!(
         "oit: stochastic {stochastic:.2} ms, depth peeling {peeling:.2} ms ({:.1}x slower), weighted blended {weighted:.2} ms",
         peeling / stochastic

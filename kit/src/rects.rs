@@ -178,6 +178,8 @@ pub fn stencil_equal(format: wgpu::TextureFormat) -> wgpu::DepthStencilState {
     stencil_state(format, wgpu::CompareFunction::Equal, wgpu::StencilOperation::Keep)
 }
 
+/// Stencil-only testing state (read and write mask 0xff); depth is left alone: always passes and
+/// is never written where the format has depth, absent where it has none (`Stencil8`).
 pub fn stencil_state(
     format: wgpu::TextureFormat,
     compare: wgpu::CompareFunction,
@@ -189,10 +191,11 @@ pub fn stencil_state(
         depth_fail_op: wgpu::StencilOperation::Keep,
         pass_op,
     };
+    let depth = format.has_depth_aspect();
     wgpu::DepthStencilState {
         format,
-        depth_write_enabled: Some(false),
-        depth_compare: Some(wgpu::CompareFunction::Always),
+        depth_write_enabled: depth.then_some(false),
+        depth_compare: depth.then_some(wgpu::CompareFunction::Always),
         stencil: wgpu::StencilState { front: face, back: face, read_mask: 0xff, write_mask: 0xff },
         bias: Default::default(),
     }

@@ -43,3 +43,24 @@ fn shade_sample(position: vec4f, normal: vec4f, albedo: vec4f, eye: vec3f, light
     }
     return colour;
 }
+
+// Shades the G-buffer sample at `pixel` (position f32 bits in an Rgba32Uint texture): the one
+// code path full-resolution lighting and every CPS level share.
+fn shade_gbuffer_pixel(
+    position: texture_2d<u32>,
+    normal: texture_2d<f32>,
+    albedo: texture_2d<f32>,
+    pixel: vec2u,
+    eye: vec3f,
+    lights: texture_2d<f32>,
+    light_count: u32,
+) -> vec3f {
+    return shade_sample(
+        bitcast<vec4f>(textureLoad(position, pixel, 0)),
+        textureLoad(normal, pixel, 0),
+        textureLoad(albedo, pixel, 0),
+        eye,
+        lights,
+        light_count,
+    );
+}

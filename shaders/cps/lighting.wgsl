@@ -24,13 +24,6 @@ fn fs_light_level(@builtin(position) position: vec4f) -> @location(0) vec4f {
     let q = vec2u(position.xy);
     let block = 1u << target_level.level;
     let pixel = min(q * block + vec2u(block / 2u), textureDimensions(gbuffer_position) - 1u);
-    let colour = shade_sample(
-        bitcast<vec4f>(textureLoad(gbuffer_position, pixel, 0)),
-        textureLoad(gbuffer_normal, pixel, 0),
-        textureLoad(gbuffer_albedo, pixel, 0),
-        shading.eye,
-        lights,
-        shading.light_count,
-    );
+    let colour = shade_gbuffer_pixel(gbuffer_position, gbuffer_normal, gbuffer_albedo, pixel, shading.eye, lights, shading.light_count);
     return vec4f(colour, 1.0);
 }

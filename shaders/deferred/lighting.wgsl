@@ -15,13 +15,6 @@ struct Shading {
 @fragment
 fn fs_deferred(@builtin(position) position: vec4f) -> @location(0) vec4f {
     let pixel = vec2u(position.xy);
-    let colour = shade_sample(
-        bitcast<vec4f>(textureLoad(gbuffer_position, pixel, 0)),
-        textureLoad(gbuffer_normal, pixel, 0),
-        textureLoad(gbuffer_albedo, pixel, 0),
-        shading.eye,
-        lights,
-        shading.light_count,
-    );
+    let colour = shade_gbuffer_pixel(gbuffer_position, gbuffer_normal, gbuffer_albedo, pixel, shading.eye, lights, shading.light_count);
     return vec4f(colour, 1.0);
 }

@@ -7,6 +7,7 @@
 use anyhow::Result;
 use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::query::median;
 
 use super::{corridor_inputs, frame};
 
@@ -25,11 +26,6 @@ pub const CASE: Case = Case {
 /// Above this time ratio (1/64 of the pixels vs all of them) the adapter does not reject early:
 /// halfway between perfect rejection (≈ 0.016) and none (1).
 const REJECTION_RATIO_LIMIT: f64 = 0.5;
-
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values[values.len() / 2]
-}
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let size = ctx.params.sizes("size")?[0];

@@ -7,6 +7,7 @@ use anyhow::Result;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 use fragkit::probe::stencil_gated_draw::{Gate, GatedDraw, StencilGatedDraw};
+use fragkit::query::median;
 
 pub const CASE: Case = Case {
     name: "kit.early_rejection",
@@ -29,11 +30,6 @@ pub const CASE: Case = Case {
 /// Above this Equal/Always time ratio the adapter is judged to shade rejected fragments anyway:
 /// halfway between perfect rejection (the passing fraction, ≤ 0.02) and none (1.0).
 const REJECTION_RATIO_LIMIT: f64 = 0.5;
-
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values[values.len() / 2]
-}
 
 /// GPU time where the adapter has timestamps, else the wall time of a submit-and-wait.
 fn time_ms(draw: &GatedDraw) -> f64 {

@@ -15,6 +15,7 @@ use crate::deferred::lights::LightTexture;
 use crate::fullscreen::{FullscreenPipeline, bind_group, bind_group_at, uniform_buffer};
 use crate::gpu::Gpu;
 use crate::query::{GpuTimer, OcclusionQueries, PassTime};
+use crate::rects::stencil_state;
 use crate::shaders;
 
 const LOD: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
@@ -44,22 +45,6 @@ impl CpsOutput {
     /// GPU time of the passes whose label starts with `prefix` ("" for all).
     pub fn gpu_ms(&self, prefix: &str) -> f64 {
         self.pass_times.iter().filter(|t| t.label.starts_with(prefix)).map(|t| t.ms).sum()
-    }
-}
-
-fn stencil8(compare: wgpu::CompareFunction, pass_op: wgpu::StencilOperation) -> wgpu::DepthStencilState {
-    let face = wgpu::StencilFaceState {
-        compare,
-        fail_op: wgpu::StencilOperation::Keep,
-        depth_fail_op: wgpu::StencilOperation::Keep,
-        pass_op,
-    };
-    wgpu::DepthStencilState {
-        format: STENCIL,
-        depth_write_enabled: None,
-        depth_compare: None,
-        stencil: wgpu::StencilState { front: face, back: face, read_mask: 0xff, write_mask: 0xff },
-        bias: Default::default(),
     }
 }
 
@@ -199,14 +184,15 @@ impl CpsRenderer {
                 shaders::CPS_STENCIL_MARK,
                 "fs_stencil_mark",
                 None,
-                Some(stencil8(wgpu::CompareFunction::Always, wgpu::StencilOperation::Replace)),
+                Some(stencil_state(STENCIL, wgpu::CompareFunction::Always, wgpu::StencilOperation::Replace)),
             ),
             light_pipeline: fullscreen(
                 "light level",
                 shaders::CPS_LIGHTING,
                 "fs_light_level",
                 Some(HDR),
-                plan.stencil_pyramid.then(|| stencil8(wgpu::CompareFunction::Equal, wgpu::StencilOperation::Keep)),
+                plan.stencil_pyramid
+                    .then(|| stencil_state(STENCIL, wgpu::CompareFunction::Equal, wgpu::StencilOperation::Keep)),
             ),
             fill_pipelines,
             composite_pipeline: fullscreen(

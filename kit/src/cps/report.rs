@@ -16,7 +16,7 @@ use crate::deferred::lighting::FullResolution;
 use crate::gpu::Gpu;
 use crate::image_compare::{compare, flip_mean};
 use crate::plot::{PlotPoint, scatter};
-use crate::query::GpuTimer;
+use crate::query::{GpuTimer, median};
 use crate::readback::read_texture;
 use crate::scene::corridor::corridor;
 use crate::tonemap::to_display;
@@ -65,11 +65,6 @@ pub struct CpsReportRow {
     pub seam_error: f64,
     /// Texels lit, all levels together (full resolution: every pixel).
     pub shaded_texels: u64,
-}
-
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values[values.len() / 2]
 }
 
 fn texels_of(values: &[f32]) -> Vec<[f32; 4]> {
