@@ -33,4 +33,6 @@ pub const ALL: &[Case] = &[
     oit::extremes::CASE,
     cbr::sample_quadrants::CASE,
     cbr::jitter_coverage::CASE,
+    cbr::reconstruct_static::CASE,
+    cbr::reconstruct_moving::CASE,
 ];

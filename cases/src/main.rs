@@ -99,6 +99,28 @@ enum Technique {
         #[arg(long, default_value_t = 1)]
         seed: u32,
     },
+    /// Checkerboard rendering: frames N−1 and N, motion, pixel sources, reconstruction, error map.
+    Cbr {
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, default_value = "192x128", value_parser = parse_size)]
+        size: (u32, u32),
+        /// static, pan_<x>x<y> (pixels a frame), strafe_<metres>, object_<metres>.
+        #[arg(long, default_value = "strafe_0.1")]
+        motion: String,
+        /// forward or deferred.
+        #[arg(long, default_value = "forward")]
+        shading: String,
+        /// cso or aso.
+        #[arg(long, default_value = "cso")]
+        detection: String,
+        #[arg(long, default_value_t = 4)]
+        frames: u32,
+        #[arg(long, default_value_t = 32)]
+        lights: u32,
+        #[arg(long, default_value_t = 5)]
+        seed: u32,
+    },
 }
 
 #[derive(Subcommand)]
@@ -220,6 +242,27 @@ fn render(selector: &AdapterSelector, technique: Technique) -> Result<()> {
             })?;
             for (name, image) in pictures {
                 let path = out.join(format!("cps_{name}.png"));
+                image.save(&path).with_context(|| format!("writing {}", path.display()))?;
+                println!("{}", path.display());
+            }
+        }
+        Technique::Cbr { out, size, motion, shading, detection, frames, lights, seed } => {
+            let motion = fragkit::cbr::scene::Motion::parse(&motion)?;
+            let shading = fragkit::cbr::Shading::parse(&shading)?;
+            let detection = fragkit::cbr::Detection::parse(&detection)?;
+            std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+            let gpu = Gpu::open(selector)?;
+            let scene = fragkit::cbr::scene::textured_corridor(seed, lights, motion);
+            let path = fragkit::cbr::sampling::CheckerboardPath::for_adapter(&gpu);
+            let config = fragkit::cbr::CheckerboardConfig {
+                detection,
+                ..fragkit::cbr::CheckerboardConfig::new(size, path, shading)
+            };
+            println!("path: {}", path.name());
+            let pictures =
+                gpu.scoped("render cbr", || fragkit::cbr::pictures::render_all(&gpu, &scene, config, frames))?;
+            for (name, image) in pictures {
+                let path = out.join(format!("cbr_{name}.png"));
                 image.save(&path).with_context(|| format!("writing {}", path.display()))?;
                 println!("{}", path.display());
             }

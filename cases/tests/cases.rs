@@ -75,4 +75,6 @@ case_tests! {
     oit_extremes => "oit.extremes",
     cbr_sample_quadrants => "cbr.sample_quadrants",
     cbr_jitter_coverage => "cbr.jitter.coverage",
+    cbr_reconstruct_static => "cbr.reconstruct.static",
+    cbr_reconstruct_moving => "cbr.reconstruct.moving",
 }

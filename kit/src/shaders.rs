@@ -9,6 +9,7 @@ pub const COMMON: &[(&str, &str)] = &[
     ("common/hash.wgsl", include_str!("../../shaders/common/hash.wgsl")),
     ("common/lighting.wgsl", include_str!("../../shaders/common/lighting.wgsl")),
     ("common/opacity.wgsl", include_str!("../../shaders/common/opacity.wgsl")),
+    ("common/checkerboard.wgsl", include_str!("../../shaders/common/checkerboard.wgsl")),
 ];
 
 /// One pass's shader file, named by its path under `shaders/`.
@@ -49,6 +50,12 @@ shader_files! {
     CPS_COMPOSITE => "cps/composite.wgsl",
     TEXARRAY_FETCH => "texarray/fetch.wgsl",
     CBR_SAMPLE_ID_RECORD => "cbr/sample_id_record.wgsl",
+    CBR_SCENE => "cbr/scene.wgsl",
+    CBR_SHADE_SAMPLES => "cbr/shade_samples.wgsl",
+    CBR_SHADE_MSAA_SAMPLES => "cbr/shade_msaa_samples.wgsl",
+    CBR_UNPACK_SAMPLES => "cbr/unpack_samples.wgsl",
+    CBR_RECONSTRUCT => "cbr/reconstruct.wgsl",
+    CBR_UPSCALE => "cbr/upscale.wgsl",
     OIT_QUAD => "oit/quad.wgsl",
     OIT_NOISE_STEP => "oit/noise_step.wgsl",
     OIT_STOCHASTIC => "oit/stochastic.wgsl",

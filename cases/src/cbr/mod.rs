@@ -1,4 +1,6 @@
 //! `cbr.*`: checkerboard rendering.
 
 pub mod jitter_coverage;
+pub mod reconstruct_moving;
+pub mod reconstruct_static;
 pub mod sample_quadrants;

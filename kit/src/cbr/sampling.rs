@@ -83,6 +83,24 @@ pub fn coverage_counts(screen: (u32, u32), positions: &[[f32; 2]; 2]) -> Vec<u32
     counts
 }
 
+/// Per full-resolution pixel (row-major), whether jitter phase `phase` samples it.
+pub fn sampled_pixels(screen: (u32, u32), phase: u32) -> Vec<bool> {
+    let positions = sample_positions();
+    let (qw, qh) = quarter_size(screen);
+    let mut sampled = vec![false; (screen.0 * screen.1) as usize];
+    for qy in 0..qh {
+        for qx in 0..qw {
+            for sample in 0..2 {
+                let (x, y) = sample_pixel((qx, qy), sample, phase, &positions);
+                if (0..i64::from(screen.0)).contains(&x) && (0..i64::from(screen.1)).contains(&y) {
+                    sampled[(y as u32 * screen.0 + x as u32) as usize] = true;
+                }
+            }
+        }
+    }
+    sampled
+}
+
 /// The pixels the two phases leave unsampled by construction: the first column's odd rows
 /// (phase 1 shifts the odd rows' samples right; nothing lands on x = 0 there).
 pub fn documented_gaps(screen: (u32, u32)) -> Vec<(u32, u32)> {
@@ -94,6 +112,27 @@ pub fn documented_gaps(screen: (u32, u32)) -> Vec<(u32, u32)> {
 pub fn offset_for_sample(sample: usize, positions: &[[f32; 2]; 2]) -> [f32; 2] {
     let [px, py] = positions[sample];
     [0.5 - px, 0.5 - py]
+}
+
+/// The clip-space transform that turns a full-resolution projection of `screen` into the
+/// quarter-resolution one of jitter phase `phase`, shifted by `offset` quarter-resolution pixels:
+/// full-resolution pixel coordinate x lands on quarter-resolution (x − phase) / 2 + offset (y
+/// likewise, unjittered), odd sizes included (the quarter target covers one extra column/row).
+pub fn quarter_projection(screen: (u32, u32), phase: u32, offset: [f32; 2]) -> glam::Mat4 {
+    let (qw, qh) = quarter_size(screen);
+    let (width, height, qw, qh) = (screen.0 as f32, screen.1 as f32, qw as f32, qh as f32);
+    // ndc' = scale · ndc + shift, per axis, derived from the pixel mappings above (y points down
+    // in pixels, up in NDC).
+    let scale_x = width / (2.0 * qw);
+    let shift_x = scale_x - 1.0 + (2.0 * offset[0] - phase as f32) / qw;
+    let scale_y = height / (2.0 * qh);
+    let shift_y = 1.0 - scale_y - 2.0 * offset[1] / qh;
+    glam::Mat4::from_cols(
+        glam::Vec4::new(scale_x, 0.0, 0.0, 0.0),
+        glam::Vec4::new(0.0, scale_y, 0.0, 0.0),
+        glam::Vec4::new(0.0, 0.0, 1.0, 0.0),
+        glam::Vec4::new(shift_x, shift_y, 0.0, 1.0),
+    )
 }
 
 /// Checks a screen size for checkerboarding (at least 2×2: a quarter pixel needs its diagonal).
@@ -128,6 +167,26 @@ mod tests {
                     let expected = u32::from(!gaps.contains(&(x, y)));
                     assert_eq!(counts[(y * screen.0 + x) as usize], expected, "{screen:?} pixel ({x}, {y})");
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn the_quarter_projection_maps_pixels_as_documented() {
+        for (screen, phase, offset) in
+            [((64, 48), 0, [0.0, 0.0]), ((33, 17), 1, [-0.25, -0.25]), ((7, 5), 1, [0.25, 0.25])]
+        {
+            let m = quarter_projection(screen, phase, offset);
+            let (qw, qh) = quarter_size(screen);
+            for (x, y) in [(0.0f32, 0.0f32), (3.5, 2.5), (screen.0 as f32, screen.1 as f32)] {
+                let ndc = glam::Vec4::new(x / screen.0 as f32 * 2.0 - 1.0, 1.0 - y / screen.1 as f32 * 2.0, 0.5, 1.0);
+                let q = m * ndc;
+                let (qx, qy) = ((q.x + 1.0) * 0.5 * qw as f32, (1.0 - q.y) * 0.5 * qh as f32);
+                let expected = ((x - phase as f32) / 2.0 + offset[0], y / 2.0 + offset[1]);
+                assert!(
+                    (qx - expected.0).abs() < 1e-4 && (qy - expected.1).abs() < 1e-4,
+                    "{screen:?} ({x}, {y}): ({qx}, {qy}) not {expected:?}"
+                );
             }
         }
     }

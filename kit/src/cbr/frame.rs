@@ -1,0 +1,377 @@
+//! One checkerboard frame: its targets in the sample layout (the two samples of quarter pixel q
+//! side by side, sample s at (q.x + s·Wq, q.y); see `shaders/common/checkerboard.wgsl`) and the
+//! passes that fill them, on either path (offset passes or a real 2x target) with forward or
+//! deferred shading, as the plan says.
+
+use anyhow::Result;
+
+use super::plan::{CheckerboardPlan, Shading};
+use super::sampling::{CheckerboardPath, offset_for_sample, quarter_projection, quarter_size, sample_positions};
+use super::scene::FrameView;
+use super::scene_pass::{
+    ALBEDO, DEPTH, DrawSet, HDR, MOTION, NORMAL, ScenePassKind, ScenePipelines, SceneResources, TextureLod,
+};
+use crate::attachments;
+use crate::fullscreen::{FullscreenPipeline, bind_group};
+use crate::gpu::Gpu;
+use crate::query::GpuTimer;
+use crate::shaders;
+
+/// The colour the scene pass clears to: shaders/common/lighting.wgsl's BACKGROUND.
+pub const BACKGROUND: wgpu::Color = wgpu::Color { r: 0.02, g: 0.025, b: 0.035, a: 1.0 };
+
+/// A frame's samples as the reconstruction reads them, all in the sample layout.
+pub struct CheckerboardFrame {
+    /// Shaded samples (forward: everything; deferred: the shade resolve target).
+    pub colour: wgpu::Texture,
+    pub depth: wgpu::Texture,
+    /// Per-object motion, where objects move.
+    pub motion: Option<wgpu::Texture>,
+    /// The deferred path's forward buffer (premultiplied colour, accumulated alpha), where
+    /// there are transparent draws.
+    pub forward: Option<wgpu::Texture>,
+}
+
+/// The texture usage of every target the kit renders, samples and reads back.
+pub(crate) const TARGET_USAGE: wgpu::TextureUsages = wgpu::TextureUsages::RENDER_ATTACHMENT
+    .union(wgpu::TextureUsages::TEXTURE_BINDING)
+    .union(wgpu::TextureUsages::COPY_SRC);
+
+/// Size of the sample layout for a full-resolution screen.
+pub fn layout_size(screen: (u32, u32)) -> (u32, u32) {
+    let (qw, qh) = quarter_size(screen);
+    (2 * qw, qh)
+}
+
+impl CheckerboardFrame {
+    fn new(gpu: &Gpu, screen: (u32, u32), plan: &CheckerboardPlan) -> Self {
+        let size = layout_size(screen);
+        let target = |label, format| gpu.texture(label, size, format, 1, TARGET_USAGE);
+        Self {
+            colour: target("checkerboard colour", HDR),
+            depth: target("checkerboard depth", DEPTH),
+            motion: plan.object_motion.then(|| target("checkerboard motion", MOTION)),
+            forward: plan.forward_buffer.then(|| target("checkerboard forward buffer", HDR)),
+        }
+    }
+}
+
+/// Targets a frame's passes render into before the sample layout: the offset path's
+/// G-buffer (already in the layout), or the 2x path's multisampled targets.
+struct Scratch {
+    /// Normal + shininess, albedo + specular (deferred only).
+    gbuffer: Option<[wgpu::Texture; 2]>,
+    /// 2x path: colour (forward), depth, motion and forward buffer at quarter size.
+    msaa_colour: Option<wgpu::Texture>,
+    msaa_depth: Option<wgpu::Texture>,
+    msaa_motion: Option<wgpu::Texture>,
+    msaa_forward: Option<wgpu::Texture>,
+}
+
+impl Scratch {
+    fn new(gpu: &Gpu, screen: (u32, u32), plan: &CheckerboardPlan) -> Self {
+        let msaa = plan.path == CheckerboardPath::Msaa2x;
+        let (size, samples) = if msaa { (quarter_size(screen), 2) } else { (layout_size(screen), 1) };
+        let target = |label, format| gpu.texture(label, size, format, samples, TARGET_USAGE);
+        Self {
+            gbuffer: (plan.shading == Shading::Deferred).then(|| {
+                [target("checkerboard gbuffer normal", NORMAL), target("checkerboard gbuffer albedo", ALBEDO)]
+            }),
+            msaa_colour: (msaa && plan.shading == Shading::Forward).then(|| target("2x colour", HDR)),
+            msaa_depth: msaa.then(|| target("2x depth", DEPTH)),
+            msaa_motion: (msaa && plan.object_motion).then(|| target("2x motion", MOTION)),
+            msaa_forward: (msaa && plan.forward_buffer).then(|| target("2x forward buffer", HDR)),
+        }
+    }
+}
+
+/// Everything that renders checkerboard frames for one scene, screen and plan.
+pub struct FramePasses {
+    pub plan: CheckerboardPlan,
+    screen: (u32, u32),
+    lod: TextureLod,
+    pipelines: ScenePipelines,
+    resources: SceneResources,
+    scratch: Scratch,
+    shade: Option<wgpu::RenderPipeline>,
+    unpack_colour: Option<wgpu::RenderPipeline>,
+    unpack_depth: Option<wgpu::RenderPipeline>,
+}
+
+fn view(texture: &wgpu::Texture) -> wgpu::TextureView {
+    texture.create_view(&Default::default())
+}
+
+fn depth_attachment(view: &wgpu::TextureView, clear: bool) -> Option<wgpu::RenderPassDepthStencilAttachment<'_>> {
+    Some(wgpu::RenderPassDepthStencilAttachment {
+        view,
+        // Passes that only test depth leave it read-only.
+        depth_ops: clear.then_some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+        stencil_ops: None,
+    })
+}
+
+impl FramePasses {
+    pub fn new(
+        gpu: &Gpu,
+        scene: &super::scene::CheckerboardScene,
+        screen: (u32, u32),
+        plan: CheckerboardPlan,
+        lod: TextureLod,
+    ) -> Result<Self> {
+        let msaa = plan.path == CheckerboardPath::Msaa2x;
+        let pipelines = ScenePipelines::new(gpu, if msaa { 2 } else { 1 });
+        let resources = SceneResources::new(gpu, &pipelines, scene, 2)?;
+        let fullscreen = |label, fragment, entry_point, targets: &[Option<wgpu::ColorTargetState>], depth| {
+            FullscreenPipeline { label, fragment, entry_point, targets, depth_stencil: depth, samples: 1 }.create(gpu)
+        };
+        let shade = (plan.shading == Shading::Deferred).then(|| {
+            let (file, entry) = if msaa {
+                (shaders::CBR_SHADE_MSAA_SAMPLES, "fs_shade_msaa_samples")
+            } else {
+                (shaders::CBR_SHADE_SAMPLES, "fs_shade_samples")
+            };
+            fullscreen("shade samples", file, entry, &[Some(HDR.into())], None)
+        });
+        let unpack_colour = msaa.then(|| {
+            fullscreen("unpack colour", shaders::CBR_UNPACK_SAMPLES, "fs_unpack_colour", &[Some(HDR.into())], None)
+        });
+        let unpack_depth = msaa.then(|| {
+            let depth = wgpu::DepthStencilState {
+                format: DEPTH,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: Default::default(),
+                bias: Default::default(),
+            };
+            fullscreen("unpack depth", shaders::CBR_UNPACK_SAMPLES, "fs_unpack_depth", &[], Some(depth))
+        });
+        Ok(Self {
+            scratch: Scratch::new(gpu, screen, &plan),
+            plan,
+            screen,
+            lod,
+            pipelines,
+            resources,
+            shade,
+            unpack_colour,
+            unpack_depth,
+        })
+    }
+
+    /// Targets for one frame of this plan.
+    pub fn frame_targets(&self, gpu: &Gpu) -> CheckerboardFrame {
+        CheckerboardFrame::new(gpu, self.screen, &self.plan)
+    }
+
+    /// Records frame `view` in jitter phase `phase` into `frame`.
+    pub fn record(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut GpuTimer,
+        view: &FrameView,
+        phase: u32,
+        frame: &CheckerboardFrame,
+    ) {
+        let msaa = self.plan.path == CheckerboardPath::Msaa2x;
+        // One view per pass of the frame: the 2x target's, or each offset pass's.
+        let offsets: Vec<[f32; 2]> =
+            if msaa { vec![[0.0, 0.0]] } else { (0..2).map(|s| offset_for_sample(s, &sample_positions())).collect() };
+        for (slot, offset) in offsets.iter().enumerate() {
+            let clip = quarter_projection(self.screen, phase, *offset) * view.full_from_world;
+            self.resources.write_view(gpu, slot, clip, view, self.screen, self.lod);
+        }
+        self.resources.write_objects(gpu, view);
+
+        let depth_view = view_of_depth(self, frame);
+        match self.plan.shading {
+            Shading::Forward => {
+                let colour = self.scratch.msaa_colour.as_ref().map_or_else(|| self::view(&frame.colour), self::view);
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("scene forward"),
+                    color_attachments: &[attachments::colour(&colour, None, BACKGROUND)],
+                    depth_stencil_attachment: depth_attachment(&depth_view, true),
+                    timestamp_writes: timer.pass("scene forward"),
+                    ..Default::default()
+                });
+                for slot in 0..offsets.len() {
+                    self.set_sample_viewport(&mut pass, slot, msaa);
+                    self.resources.draw(&mut pass, &self.pipelines, ScenePassKind::Forward, DrawSet::Opaque, slot);
+                    if self.plan.transparents {
+                        self.resources.draw(
+                            &mut pass,
+                            &self.pipelines,
+                            ScenePassKind::Forward,
+                            DrawSet::Transparent,
+                            slot,
+                        );
+                    }
+                }
+            }
+            Shading::Deferred => {
+                let gbuffer =
+                    self.scratch.gbuffer.as_ref().expect("deferred plans have a G-buffer").each_ref().map(self::view);
+                {
+                    let clear = wgpu::Color::TRANSPARENT;
+                    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("gbuffer"),
+                        color_attachments: &[
+                            attachments::colour(&gbuffer[0], None, clear),
+                            attachments::colour(&gbuffer[1], None, clear),
+                        ],
+                        depth_stencil_attachment: depth_attachment(&depth_view, true),
+                        timestamp_writes: timer.pass("gbuffer"),
+                        ..Default::default()
+                    });
+                    for slot in 0..offsets.len() {
+                        self.set_sample_viewport(&mut pass, slot, msaa);
+                        self.resources.draw(&mut pass, &self.pipelines, ScenePassKind::Gbuffer, DrawSet::Opaque, slot);
+                    }
+                }
+                if let Some(forward) = &frame.forward {
+                    let target = self.scratch.msaa_forward.as_ref().map_or_else(|| self::view(forward), self::view);
+                    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("forward buffer"),
+                        color_attachments: &[attachments::colour(&target, None, wgpu::Color::TRANSPARENT)],
+                        depth_stencil_attachment: depth_attachment(&depth_view, false),
+                        timestamp_writes: timer.pass("forward buffer"),
+                        ..Default::default()
+                    });
+                    for slot in 0..offsets.len() {
+                        self.set_sample_viewport(&mut pass, slot, msaa);
+                        self.resources.draw(
+                            &mut pass,
+                            &self.pipelines,
+                            ScenePassKind::Forward,
+                            DrawSet::Transparent,
+                            slot,
+                        );
+                    }
+                }
+                if let (Some(forward), Some(samples)) = (&frame.forward, &self.scratch.msaa_forward) {
+                    self.unpack(gpu, encoder, timer, "unpack forward buffer", samples, forward);
+                }
+                let depth_samples = self.scratch.msaa_depth.as_ref().unwrap_or(&frame.depth);
+                let shading = shading_uniform(gpu, view, self.screen, phase, self.resources.light_count());
+                let group = bind_group(
+                    gpu,
+                    "shade samples",
+                    self.shade.as_ref().expect("deferred plans shade"),
+                    0,
+                    &[
+                        shading.as_entire_binding(),
+                        wgpu::BindingResource::TextureView(&gbuffer[0]),
+                        wgpu::BindingResource::TextureView(&gbuffer[1]),
+                        wgpu::BindingResource::TextureView(&self::view(depth_samples)),
+                        wgpu::BindingResource::TextureView(self.resources.lights_view()),
+                    ],
+                );
+                let target = self::view(&frame.colour);
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("shade samples"),
+                    color_attachments: &[attachments::colour(&target, None, wgpu::Color::TRANSPARENT)],
+                    timestamp_writes: timer.pass("shade samples"),
+                    ..Default::default()
+                });
+                pass.set_pipeline(self.shade.as_ref().expect("deferred plans shade"));
+                pass.set_bind_group(0, &group, &[]);
+                pass.draw(0..3, 0..1);
+            }
+        }
+        if let (Some(colour), Shading::Forward) = (&self.scratch.msaa_colour, self.plan.shading) {
+            self.unpack(gpu, encoder, timer, "unpack colour", colour, &frame.colour);
+        }
+        if let Some(motion) = &frame.motion {
+            let target = self.scratch.msaa_motion.as_ref().map_or_else(|| self::view(motion), self::view);
+            {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("object motion"),
+                    color_attachments: &[attachments::colour(&target, None, wgpu::Color::TRANSPARENT)],
+                    depth_stencil_attachment: depth_attachment(&depth_view, false),
+                    timestamp_writes: timer.pass("object motion"),
+                    ..Default::default()
+                });
+                for slot in 0..offsets.len() {
+                    self.set_sample_viewport(&mut pass, slot, msaa);
+                    self.resources.draw(&mut pass, &self.pipelines, ScenePassKind::Forward, DrawSet::Moving, slot);
+                }
+            }
+            if let Some(samples) = &self.scratch.msaa_motion {
+                self.unpack(gpu, encoder, timer, "unpack motion", samples, motion);
+            }
+        }
+        if let Some(samples) = &self.scratch.msaa_depth {
+            self.unpack(gpu, encoder, timer, "unpack depth", samples, &frame.depth);
+        }
+    }
+
+    /// The offset path draws sample s into the layout's s-th half; the 2x path has one view.
+    fn set_sample_viewport(&self, pass: &mut wgpu::RenderPass<'_>, slot: usize, msaa: bool) {
+        if msaa {
+            return;
+        }
+        let (qw, qh) = quarter_size(self.screen);
+        let x = slot as u32 * qw;
+        pass.set_viewport(x as f32, 0.0, qw as f32, qh as f32, 0.0, 1.0);
+        pass.set_scissor_rect(x, 0, qw, qh);
+    }
+
+    /// Copies each sample of a 2x target into the sample layout (`target`).
+    fn unpack(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut GpuTimer,
+        label: &'static str,
+        samples: &wgpu::Texture,
+        target: &wgpu::Texture,
+    ) {
+        let (qw, _) = quarter_size(self.screen);
+        let uniform = crate::fullscreen::uniform_buffer(gpu, "sample layout", bytemuck::cast_slice(&[qw, 0, 0, 0]));
+        let depth = samples.format() == DEPTH;
+        let pipeline = if depth { &self.unpack_depth } else { &self.unpack_colour };
+        let pipeline = pipeline.as_ref().expect("2x plans unpack");
+        let source = self::view(samples);
+        let binding = if depth { 2 } else { 1 };
+        let group = crate::fullscreen::bind_group_at(
+            gpu,
+            label,
+            pipeline,
+            0,
+            &[(0, uniform.as_entire_binding()), (binding, wgpu::BindingResource::TextureView(&source))],
+        );
+        let target_view = self::view(target);
+        let colour = [attachments::colour(&target_view, None, wgpu::Color::TRANSPARENT)];
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: if depth { &[] } else { &colour },
+            depth_stencil_attachment: depth.then_some(wgpu::RenderPassDepthStencilAttachment {
+                view: &target_view,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timer.pass(label),
+            ..Default::default()
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
+
+/// The depth the scene passes test against: the 2x target's, or the frame's own.
+fn view_of_depth(passes: &FramePasses, frame: &CheckerboardFrame) -> wgpu::TextureView {
+    view(passes.scratch.msaa_depth.as_ref().unwrap_or(&frame.depth))
+}
+
+/// `SampleShading` in the shade passes: inverse view-projection, screen, quarter size, eye,
+/// light count, phase.
+fn shading_uniform(gpu: &Gpu, view: &FrameView, screen: (u32, u32), phase: u32, light_count: u32) -> wgpu::Buffer {
+    let (qw, qh) = quarter_size(screen);
+    let mut words: Vec<u32> = view.full_from_world.inverse().to_cols_array().map(f32::to_bits).to_vec();
+    words.extend([(screen.0 as f32).to_bits(), (screen.1 as f32).to_bits(), qw, qh]);
+    words.extend([view.eye.x.to_bits(), view.eye.y.to_bits(), view.eye.z.to_bits(), light_count]);
+    words.extend([phase, 0, 0, 0]);
+    crate::fullscreen::uniform_buffer(gpu, "sample shading", bytemuck::cast_slice(&words))
+}

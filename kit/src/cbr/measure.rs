@@ -1,0 +1,92 @@
+//! Measuring a reconstruction: its error against the full-resolution render of the same frame
+//! (bitwise and display-referred: PSNR, FLIP, an error mask), the documented gap column left
+//! out, and how many pixels came from each source.
+
+use std::collections::BTreeMap;
+
+use anyhow::{Result, bail};
+use image::RgbaImage;
+use serde::Serialize;
+
+use super::reconstruct::{PixelSource, Reconstruction};
+use super::sampling::documented_gaps;
+use crate::gpu::Gpu;
+use crate::image_compare::{compare, flip_mean, side_by_side};
+use crate::readback::read_texture;
+use crate::tonemap::to_display;
+
+/// An HDR target's texels as f32 RGBA.
+pub fn read_hdr(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Vec<f32>> {
+    Ok(read_texture(gpu, texture, wgpu::TextureAspect::All, 0)?.as_f16())
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct ReconstructionError {
+    /// Pixels compared (the documented gap column excluded).
+    pub compared_pixels: u64,
+    /// Pixels whose HDR value differs in any bit.
+    pub inexact_pixels: u64,
+    /// Pixels whose display value differs by more than the tolerance.
+    pub differing_pixels: u64,
+    pub max_display_difference: u8,
+    pub psnr_db: f64,
+    pub flip: f64,
+    /// Pixels with a NaN or infinite channel.
+    pub non_finite_pixels: u64,
+}
+
+/// Compares `result` with `reference` (HDR RGBA texels of `screen`), the gap column taken from
+/// the reference; also returns result | reference | error mask for evidence.
+pub fn measure_against(
+    screen: (u32, u32),
+    result: &[f32],
+    reference: &[f32],
+    display_tolerance: u8,
+) -> Result<(ReconstructionError, RgbaImage)> {
+    if result.len() != reference.len() || result.len() != (screen.0 * screen.1 * 4) as usize {
+        bail!("comparing {} with {} channels for a {}x{} screen", result.len(), reference.len(), screen.0, screen.1);
+    }
+    let mut result = result.to_vec();
+    let gaps = documented_gaps(screen);
+    for &(x, y) in &gaps {
+        let i = ((y * screen.0 + x) * 4) as usize;
+        result[i..i + 4].copy_from_slice(&reference[i..i + 4]);
+    }
+    let texels =
+        |v: &[f32]| v.chunks_exact(4).map(|c| c.iter().map(|x| x.to_bits()).collect::<Vec<_>>()).collect::<Vec<_>>();
+    let inexact = texels(&result).iter().zip(texels(reference)).filter(|(a, b)| **a != *b).count() as u64;
+    let non_finite = result.chunks_exact(4).filter(|c| c.iter().any(|x| !x.is_finite())).count() as u64;
+    let (shown, expected) = (to_display(screen.0, screen.1, &result)?, to_display(screen.0, screen.1, reference)?);
+    let (difference, mask) = compare(&shown, &expected, display_tolerance)?;
+    let error = ReconstructionError {
+        compared_pixels: u64::from(screen.0 * screen.1) - gaps.len() as u64,
+        inexact_pixels: inexact,
+        differing_pixels: difference.differing_pixels,
+        max_display_difference: difference.max_channel_difference,
+        psnr_db: difference.psnr_db,
+        flip: f64::from(flip_mean(&shown, &expected)?),
+        non_finite_pixels: non_finite,
+    };
+    Ok((error, side_by_side(&shown, &expected, &mask)))
+}
+
+/// Each pixel's source, row-major.
+pub fn read_sources(gpu: &Gpu, reconstruction: &Reconstruction) -> Result<Vec<PixelSource>> {
+    let texels = read_texture(gpu, &reconstruction.source, wgpu::TextureAspect::All, 0)?;
+    texels
+        .bytes
+        .iter()
+        .map(|&b| {
+            PixelSource::from_byte(b).ok_or_else(|| anyhow::anyhow!("reconstruction wrote unknown pixel source {b}"))
+        })
+        .collect()
+}
+
+/// How many pixels came from each source (every source listed, zeros included).
+pub fn source_counts(sources: &[PixelSource]) -> BTreeMap<&'static str, u64> {
+    let mut counts: BTreeMap<&'static str, u64> = PixelSource::ALL.iter().map(|s| (s.name(), 0)).collect();
+    for source in sources {
+        *counts.get_mut(source.name()).expect("every source listed") += 1;
+    }
+    counts
+}

@@ -1,0 +1,246 @@
+//! The reconstruction pass (`shaders/cbr/reconstruct.wgsl`): full resolution rebuilt from
+//! frames N and N−1 in the sample layout, with a second target saying where each pixel came from.
+
+use serde::Serialize;
+
+use super::frame::{CheckerboardFrame, TARGET_USAGE};
+use super::plan::CheckerboardPlan;
+use super::sampling::quarter_size;
+use super::scene::FrameView;
+use super::scene_pass::{DEPTH, HDR};
+use crate::attachments;
+use crate::fullscreen::{FullscreenPipeline, bind_group, uniform_buffer};
+use crate::gpu::Gpu;
+use crate::query::GpuTimer;
+use crate::shaders;
+
+/// Where a reconstructed pixel's colour came from (the pass's second output, R8Uint).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PixelSource {
+    /// Frame N sampled it.
+    Current,
+    /// Frame N−1, through the motion.
+    History,
+    /// Filled: no frame N−1 yet.
+    FirstFrame,
+    /// Filled: the motion lands on one of frame N's own pixels (it cancels the jitter).
+    JitterCancelled,
+    /// Filled: the history is stale (CSO depth check failed, or an object left it).
+    Disoccluded,
+    /// Filled: moved at least a quarter-resolution pixel, and ASO assumes that is missing.
+    Assumed,
+    /// Filled: the history lies off screen or in the never-sampled gap column.
+    OffScreen,
+}
+
+impl PixelSource {
+    pub const ALL: [Self; 7] = [
+        Self::Current,
+        Self::History,
+        Self::FirstFrame,
+        Self::JitterCancelled,
+        Self::Disoccluded,
+        Self::Assumed,
+        Self::OffScreen,
+    ];
+
+    pub fn from_byte(byte: u8) -> Option<Self> {
+        Self::ALL.get(usize::from(byte)).copied()
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Current => "current",
+            Self::History => "history",
+            Self::FirstFrame => "first_frame",
+            Self::JitterCancelled => "jitter_cancelled",
+            Self::Disoccluded => "disoccluded",
+            Self::Assumed => "assumed",
+            Self::OffScreen => "off_screen",
+        }
+    }
+
+    /// Whether the colour was filled from neighbours (missing shading).
+    pub fn is_filled(self) -> bool {
+        !matches!(self, Self::Current | Self::History)
+    }
+}
+
+/// How a pixel that moved at least a quarter-resolution pixel is judged.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Detection {
+    /// Checked: N−1's linear depth against the mean of frame N's four cardinal neighbours,
+    /// within `tolerance` of it (relative).
+    Cso { tolerance: f32 },
+    /// Assumed missing.
+    Aso,
+}
+
+impl Detection {
+    pub const DEFAULT_CSO: Self = Self::Cso { tolerance: 0.05 };
+
+    /// `aso`, `cso` (default tolerance) or `cso:<tolerance>` (relative, finite, at least 0).
+    pub fn parse(name: &str) -> anyhow::Result<Self> {
+        match name.split_once(':') {
+            None if name == "aso" => Ok(Self::Aso),
+            None if name == "cso" => Ok(Self::DEFAULT_CSO),
+            Some(("cso", tolerance)) => match tolerance.parse::<f32>() {
+                Ok(t) if t.is_finite() && t >= 0.0 => Ok(Self::Cso { tolerance: t }),
+                _ => anyhow::bail!("CSO depth tolerance {tolerance:?} must be a finite number >= 0 (relative depth)"),
+            },
+            _ => anyhow::bail!("unknown detection {name:?}; expected aso, cso or cso:<tolerance>"),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Cso { .. } => "cso",
+            Self::Aso => "aso",
+        }
+    }
+}
+
+pub const SOURCE: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
+
+/// The reconstruction's pipeline, outputs and the 1×1 placeholders bound where a frame has no
+/// motion or forward buffer (WGSL bindings are static; a flag keeps them unread).
+pub struct Reconstruction {
+    pipeline: wgpu::RenderPipeline,
+    pub colour: wgpu::Texture,
+    pub source: wgpu::Texture,
+    /// The motion each pixel used, for pictures (`Reconstruction::showing_motion`).
+    pub motion: Option<wgpu::Texture>,
+    placeholder: wgpu::Texture,
+    placeholder_depth: wgpu::Texture,
+}
+
+const HAS_HISTORY: u32 = 1;
+const CAMERA_MOVED: u32 = 2;
+const OBJECT_MOTION: u32 = 4;
+const FORWARD_BUFFER: u32 = 8;
+const DEPTH_CHECK: u32 = 16;
+
+/// What one reconstruction reads.
+pub struct ReconstructionInputs<'a> {
+    pub current: &'a CheckerboardFrame,
+    pub previous: Option<&'a CheckerboardFrame>,
+    pub view: &'a FrameView,
+    pub phase: u32,
+    pub plan: &'a CheckerboardPlan,
+    pub detection: Detection,
+    pub near_far: (f32, f32),
+}
+
+impl Reconstruction {
+    pub fn new(gpu: &Gpu, screen: (u32, u32)) -> Self {
+        Self::create(gpu, screen, false)
+    }
+
+    /// A reconstruction that also writes the motion each pixel used (pictures).
+    pub fn showing_motion(gpu: &Gpu, screen: (u32, u32)) -> Self {
+        Self::create(gpu, screen, true)
+    }
+
+    fn create(gpu: &Gpu, screen: (u32, u32), with_motion: bool) -> Self {
+        let mut targets = vec![Some(HDR.into()), Some(SOURCE.into())];
+        if with_motion {
+            targets.push(Some(HDR.into()));
+        }
+        let pipeline = FullscreenPipeline {
+            label: "reconstruction",
+            fragment: shaders::CBR_RECONSTRUCT,
+            entry_point: if with_motion { "fs_reconstruct_showing_motion" } else { "fs_reconstruct" },
+            targets: &targets,
+            depth_stencil: None,
+            samples: 1,
+        }
+        .create(gpu);
+        Self {
+            pipeline,
+            colour: gpu.texture("reconstruction", screen, HDR, 1, TARGET_USAGE),
+            source: gpu.texture("pixel sources", screen, SOURCE, 1, TARGET_USAGE),
+            motion: with_motion.then(|| gpu.texture("reconstruction motion", screen, HDR, 1, TARGET_USAGE)),
+            placeholder: gpu.texture("no texture", (1, 1), HDR, 1, wgpu::TextureUsages::TEXTURE_BINDING),
+            placeholder_depth: gpu.texture("no depth", (1, 1), DEPTH, 1, wgpu::TextureUsages::TEXTURE_BINDING),
+        }
+    }
+
+    pub fn record(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut GpuTimer,
+        inputs: &ReconstructionInputs,
+    ) {
+        let screen = (self.colour.width(), self.colour.height());
+        let (qw, qh) = quarter_size(screen);
+        let plan = inputs.plan;
+        let mut flags = 0;
+        for (on, flag) in [
+            (inputs.previous.is_some(), HAS_HISTORY),
+            (plan.camera_reprojection, CAMERA_MOVED),
+            (plan.object_motion, OBJECT_MOTION),
+            (plan.forward_buffer, FORWARD_BUFFER),
+            (matches!(inputs.detection, Detection::Cso { .. }), DEPTH_CHECK),
+        ] {
+            if on {
+                flags |= flag;
+            }
+        }
+        let tolerance = match inputs.detection {
+            Detection::Cso { tolerance } => tolerance,
+            Detection::Aso => 0.0,
+        };
+        let mut words: Vec<u32> = inputs.view.full_from_world.inverse().to_cols_array().map(f32::to_bits).to_vec();
+        words.extend(inputs.view.previous_full_from_world.to_cols_array().map(f32::to_bits));
+        words.extend([
+            screen.0,
+            screen.1,
+            qw,
+            qh,
+            inputs.phase,
+            flags,
+            tolerance.to_bits(),
+            inputs.near_far.0.to_bits(),
+        ]);
+        words.extend([inputs.near_far.1.to_bits(), 0, 0, 0]);
+        let uniform = uniform_buffer(gpu, "reconstruction", bytemuck::cast_slice(&words));
+
+        let view = |t: &wgpu::Texture| t.create_view(&Default::default());
+        let frame_views = |frame: Option<&CheckerboardFrame>| {
+            let or_placeholder = |t: Option<&wgpu::Texture>| view(t.unwrap_or(&self.placeholder));
+            [
+                view(frame.map_or(&self.placeholder, |f| &f.colour)),
+                view(frame.map_or(&self.placeholder_depth, |f| &f.depth)),
+                or_placeholder(frame.and_then(|f| f.motion.as_ref())),
+                or_placeholder(frame.and_then(|f| f.forward.as_ref())),
+            ]
+        };
+        let current = frame_views(Some(inputs.current));
+        let previous = frame_views(inputs.previous);
+        let mut resources = vec![uniform.as_entire_binding()];
+        resources.extend(current.iter().chain(&previous).map(wgpu::BindingResource::TextureView));
+        let group = bind_group(gpu, "reconstruction", &self.pipeline, 0, &resources);
+
+        let (colour, source) = (view(&self.colour), view(&self.source));
+        let motion = self.motion.as_ref().map(view);
+        let mut targets = vec![
+            attachments::colour(&colour, None, wgpu::Color::TRANSPARENT),
+            attachments::colour(&source, None, wgpu::Color::TRANSPARENT),
+        ];
+        if let Some(motion) = &motion {
+            targets.push(attachments::colour(motion, None, wgpu::Color::TRANSPARENT));
+        }
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("reconstruction"),
+            color_attachments: &targets,
+            timestamp_writes: timer.pass("reconstruction"),
+            ..Default::default()
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}

@@ -1,0 +1,348 @@
+//! Checkerboard scenes: geometry in draws (opaque first, transparents back to front), each draw
+//! optionally moving at a constant velocity, a camera that may pan (an image-space lens shift, so
+//! every pixel moves by exactly the same amount) or travel, and the lights. Two kinds: flat-shaded
+//! fronto-parallel rects whose edges lie on full-resolution pixel boundaries (so checkerboarding
+//! can match full resolution exactly), and the lit, textured corridor with glass panes.
+
+use std::ops::Range;
+
+use glam::{Mat4, Vec2, Vec3};
+
+use crate::scene::corridor::{Camera, Light, SceneVertex, corridor};
+use crate::scene::hash::SeededRng;
+
+/// One vertex as `shaders/cbr/scene.wgsl` reads it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct CheckerboardVertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    /// Albedo and specular weight (opacity for transparent draws).
+    pub albedo: [f32; 4],
+    /// Negative: unlit, flat albedo.
+    pub shininess: f32,
+    /// Albedo-map repeats per metre; 0: untextured.
+    pub texture_scale: f32,
+}
+
+/// A range of vertices drawn with one model matrix.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Draw {
+    pub vertices: Range<u32>,
+    pub transparent: bool,
+    /// World units a frame; zero for static geometry.
+    pub velocity: Vec3,
+}
+
+/// How the camera moves each frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CameraMotion {
+    /// Image-space pan in full-resolution pixels (x right, y down): a lens shift, so every
+    /// pixel moves by exactly this much.
+    pub pan_pixels: Vec2,
+    /// World-space travel of eye and target (parallax, disocclusion).
+    pub travel: Vec3,
+}
+
+#[derive(Clone, Debug)]
+pub struct CheckerboardScene {
+    pub name: String,
+    pub vertices: Vec<CheckerboardVertex>,
+    pub draws: Vec<Draw>,
+    pub lights: Vec<Light>,
+    pub camera: Camera,
+    pub camera_motion: CameraMotion,
+}
+
+/// What one frame's passes need from the scene.
+#[derive(Clone, Debug)]
+pub struct FrameView {
+    /// Unjittered full-resolution view-projection of this frame and of the one before.
+    pub full_from_world: Mat4,
+    pub previous_full_from_world: Mat4,
+    pub eye: Vec3,
+    /// Per draw: model matrix now and one frame earlier.
+    pub models: Vec<(Mat4, Mat4)>,
+}
+
+impl CheckerboardScene {
+    pub fn camera_moves(&self) -> bool {
+        self.camera_motion != CameraMotion::default()
+    }
+
+    pub fn objects_move(&self) -> bool {
+        self.draws.iter().any(|d| d.velocity != Vec3::ZERO)
+    }
+
+    pub fn has_transparents(&self) -> bool {
+        self.draws.iter().any(|d| d.transparent)
+    }
+
+    fn view_projection(&self, frame: u32, (width, height): (u32, u32)) -> Mat4 {
+        let travel = self.camera_motion.travel * frame as f32;
+        let camera = Camera { eye: self.camera.eye + travel, target: self.camera.target + travel, ..self.camera };
+        let pan = self.camera_motion.pan_pixels * frame as f32;
+        let shift = Mat4::from_translation(Vec3::new(2.0 * pan.x / width as f32, -2.0 * pan.y / height as f32, 0.0));
+        shift * camera.view_projection(width as f32 / height as f32)
+    }
+
+    /// Frame `frame` at full resolution `screen` (frame 0's previous frame is itself).
+    pub fn frame_view(&self, frame: u32, screen: (u32, u32)) -> FrameView {
+        let previous = frame.saturating_sub(1);
+        let model = |f: u32, draw: &Draw| Mat4::from_translation(draw.velocity * f as f32);
+        FrameView {
+            full_from_world: self.view_projection(frame, screen),
+            previous_full_from_world: self.view_projection(previous, screen),
+            eye: self.camera.eye + self.camera_motion.travel * frame as f32,
+            models: self.draws.iter().map(|d| (model(frame, d), model(previous, d))).collect(),
+        }
+    }
+}
+
+/// How a corridor sequence moves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Motion {
+    Static,
+    /// Image-space pan, full-resolution pixels a frame (1.0 horizontally cancels the jitter).
+    Pan(Vec2),
+    /// The camera travels sideways, metres a frame: parallax and disocclusion.
+    Strafe(f32),
+    /// A box crosses the corridor, metres a frame, in front of a static camera.
+    Object(f32),
+}
+
+impl Motion {
+    /// Parses a [`Motion::name`]: `static`, `pan_<x>x<y>`, `strafe_<metres>`, `object_<metres>`.
+    pub fn parse(name: &str) -> anyhow::Result<Self> {
+        let number = |text: &str| {
+            text.parse::<f32>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| anyhow::anyhow!("motion {name:?}: {text:?} is not a finite number"))
+        };
+        if name == "static" {
+            return Ok(Self::Static);
+        }
+        if let Some(pan) = name.strip_prefix("pan_") {
+            let (x, y) = pan.split_once('x').ok_or_else(|| anyhow::anyhow!("motion {name:?}: expected pan_<x>x<y>"))?;
+            return Ok(Self::Pan(Vec2::new(number(x)?, number(y)?)));
+        }
+        if let Some(metres) = name.strip_prefix("strafe_") {
+            return Ok(Self::Strafe(number(metres)?));
+        }
+        if let Some(metres) = name.strip_prefix("object_") {
+            return Ok(Self::Object(number(metres)?));
+        }
+        anyhow::bail!("unknown motion {name:?}; expected static, pan_<x>x<y>, strafe_<metres> or object_<metres>")
+    }
+
+    pub fn name(self) -> String {
+        match self {
+            Self::Static => "static".into(),
+            Self::Pan(p) => format!("pan_{}x{}", p.x, p.y),
+            Self::Strafe(m) => format!("strafe_{m}"),
+            Self::Object(m) => format!("object_{m}"),
+        }
+    }
+}
+
+fn quad(corners: [Vec3; 4], normal: Vec3, albedo: [f32; 4], shininess: f32) -> Vec<CheckerboardVertex> {
+    let [a, b, c, d] = corners;
+    [a, b, c, a, c, d]
+        .iter()
+        .map(|p| CheckerboardVertex {
+            position: p.to_array(),
+            normal: normal.to_array(),
+            albedo,
+            shininess,
+            texture_scale: 0.0,
+        })
+        .collect()
+}
+
+fn push_draw(scene: &mut CheckerboardScene, vertices: Vec<CheckerboardVertex>, transparent: bool, velocity: Vec3) {
+    let start = scene.vertices.len() as u32;
+    scene.vertices.extend(vertices);
+    scene.draws.push(Draw { vertices: start..scene.vertices.len() as u32, transparent, velocity });
+}
+
+/// Flat-shaded rects facing the camera, corners on full-resolution pixel corners of `screen`,
+/// overlapping at seeded depths; colours are multiples of 1/255 (exact in every target format).
+pub fn flat_rects(screen: (u32, u32), seed: u32, pan_pixels: Vec2) -> CheckerboardScene {
+    let camera = Camera { eye: Vec3::ZERO, target: Vec3::NEG_Z, fov_y: 1.0, near: 0.1, far: 60.0 };
+    let mut scene = CheckerboardScene {
+        name: "flat_rects".into(),
+        vertices: Vec::new(),
+        draws: Vec::new(),
+        lights: Vec::new(),
+        camera,
+        camera_motion: CameraMotion { pan_pixels, travel: Vec3::ZERO },
+    };
+    let world_from_clip = scene.view_projection(0, screen).inverse();
+    let (width, height) = (screen.0 as f32, screen.1 as f32);
+    let depth_of = |distance: f32| camera.far * (distance - camera.near) / (distance * (camera.far - camera.near));
+    let corner = |x: u32, y: u32, distance: f32| {
+        let ndc = Vec3::new(x as f32 / width * 2.0 - 1.0, 1.0 - y as f32 / height * 2.0, depth_of(distance));
+        world_from_clip.project_point3(ndc)
+    };
+    let mut rng = SeededRng::new(seed);
+    // A backdrop over the whole screen, then smaller rects in front.
+    let mut rects = vec![(0, 0, screen.0, screen.1, 40.0)];
+    for _ in 0..12 {
+        let (x0, y0) = (rng.range(0, screen.0), rng.range(0, screen.1));
+        let (x1, y1) = (rng.range(x0 + 1, screen.0 + 1), rng.range(y0 + 1, screen.1 + 1));
+        rects.push((x0, y0, x1, y1, 2.0 + 30.0 * rng.unit()));
+    }
+    for (x0, y0, x1, y1, distance) in rects {
+        let albedo = [rng.range(0, 256), rng.range(0, 256), rng.range(0, 256)].map(|c| c as f32 / 255.0);
+        // Counter-clockwise seen from the camera: bottom-left, bottom-right, top-right, top-left.
+        let corners =
+            [corner(x0, y1, distance), corner(x1, y1, distance), corner(x1, y0, distance), corner(x0, y0, distance)];
+        push_draw(&mut scene, quad(corners, Vec3::Z, [albedo[0], albedo[1], albedo[2], 1.0], -1.0), false, Vec3::ZERO);
+    }
+    scene
+}
+
+/// Albedo-map repeats per metre on the corridor's floor and walls.
+const FLOOR_TEXTURE_SCALE: f32 = 1.0;
+const WALL_TEXTURE_SCALE: f32 = 0.5;
+
+/// The lit corridor (`scene::corridor`) with a textured floor and walls, two glass panes and,
+/// for [`Motion::Object`], a box crossing it.
+pub fn textured_corridor(seed: u32, light_count: u32, motion: Motion) -> CheckerboardScene {
+    let base = corridor(seed, light_count);
+    let mut scene = CheckerboardScene {
+        name: format!("corridor_{}", motion.name()),
+        vertices: Vec::new(),
+        draws: Vec::new(),
+        lights: base.lights,
+        camera: base.camera,
+        camera_motion: match motion {
+            Motion::Pan(pixels) => CameraMotion { pan_pixels: pixels, travel: Vec3::ZERO },
+            Motion::Strafe(metres) => CameraMotion { pan_pixels: Vec2::ZERO, travel: Vec3::X * metres },
+            Motion::Static | Motion::Object(_) => CameraMotion::default(),
+        },
+    };
+    // The corridor's first four boxes (36 vertices each) are floor, ceiling and the two walls.
+    let to_vertex = |(i, v): (usize, &SceneVertex)| CheckerboardVertex {
+        position: v.position,
+        normal: v.normal,
+        albedo: v.albedo,
+        shininess: v.shininess,
+        texture_scale: match i / 36 {
+            0 => FLOOR_TEXTURE_SCALE,
+            2 | 3 => WALL_TEXTURE_SCALE,
+            _ => 0.0,
+        },
+    };
+    push_draw(&mut scene, base.vertices.iter().enumerate().map(to_vertex).collect(), false, Vec3::ZERO);
+    if let Motion::Object(metres) = motion {
+        let mut cube = Vec::new();
+        let half = 0.45;
+        let centre = Vec3::new(-1.8, 1.3, -2.0);
+        for (normal, u, v) in
+            [(Vec3::Z, Vec3::X, Vec3::Y), (Vec3::X, Vec3::NEG_Z, Vec3::Y), (Vec3::NEG_X, Vec3::Z, Vec3::Y)]
+        {
+            let c = centre + normal * half;
+            let corners = [c - (u + v) * half, c + (u - v) * half, c + (u + v) * half, c - (u - v) * half];
+            cube.extend(quad(corners, normal, [0.85, 0.3, 0.2, 0.5], 24.0));
+        }
+        push_draw(&mut scene, cube, false, Vec3::X * metres);
+    }
+    // Glass panes across the corridor, the farther first (drawn back to front).
+    for (z, tint) in [(-9.0, [0.3, 0.6, 0.9, 0.35]), (-3.0, [0.9, 0.7, 0.3, 0.3])] {
+        let corners =
+            [Vec3::new(-1.2, 0.2, z), Vec3::new(1.0, 0.2, z), Vec3::new(1.0, 2.2, z), Vec3::new(-1.2, 2.2, z)];
+        push_draw(&mut scene, quad(corners, Vec3::Z, tint, 16.0), true, Vec3::ZERO);
+    }
+    scene
+}
+
+/// Side of the albedo map's top level.
+pub const ALBEDO_MAP_SIZE: u32 = 128;
+
+/// The albedo map's mip chain (Rgba8Unorm texels, top level first): stone tiles with mortar
+/// lines and seeded grain, each level the 2×2 box filter of the one above.
+pub fn albedo_map_levels() -> Vec<Vec<[u8; 4]>> {
+    let size = ALBEDO_MAP_SIZE;
+    let mut top = Vec::with_capacity((size * size) as usize);
+    for y in 0..size {
+        for x in 0..size {
+            let mortar = x % 32 < 2 || (y + if (x / 32) % 2 == 0 { 0 } else { 16 }) % 32 < 2;
+            let grain = crate::scene::hash::hash_unit(y * size + x);
+            let tile = crate::scene::hash::hash_unit(0x9e37 + (y / 32) * 8 + x / 32);
+            let value = if mortar { 0.35 } else { 0.65 + 0.25 * tile + 0.1 * grain };
+            let byte = |scale: f32| (value * scale * 255.0).round().clamp(0.0, 255.0) as u8;
+            top.push([byte(1.0), byte(0.95), byte(0.85), 255]);
+        }
+    }
+    let mut levels = vec![top];
+    let mut side = size;
+    while side > 1 {
+        let above = levels.last().expect("a level");
+        let half = side / 2;
+        let mut level = Vec::with_capacity((half * half) as usize);
+        for y in 0..half {
+            for x in 0..half {
+                let texel = |dx: u32, dy: u32| above[((2 * y + dy) * side + 2 * x + dx) as usize];
+                let mut mean = [0u8; 4];
+                for (c, m) in mean.iter_mut().enumerate() {
+                    let sum: u32 =
+                        [texel(0, 0), texel(1, 0), texel(0, 1), texel(1, 1)].iter().map(|t| u32::from(t[c])).sum();
+                    *m = ((sum + 2) / 4) as u8;
+                }
+                level.push(mean);
+            }
+        }
+        levels.push(level);
+        side = half;
+    }
+    levels
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flat_rect_corners_land_on_pixel_corners() {
+        let screen = (37, 23);
+        let scene = flat_rects(screen, 7, Vec2::ZERO);
+        let view = scene.frame_view(0, screen);
+        for v in &scene.vertices {
+            let ndc = view.full_from_world.project_point3(Vec3::from_array(v.position));
+            let (x, y) = ((ndc.x + 1.0) * 0.5 * screen.0 as f32, (1.0 - ndc.y) * 0.5 * screen.1 as f32);
+            assert!((x - x.round()).abs() < 1e-3 && (y - y.round()).abs() < 1e-3, "corner at ({x}, {y})");
+        }
+    }
+
+    #[test]
+    fn a_pan_moves_every_point_by_the_same_pixels() {
+        let screen = (64, 48);
+        let scene = flat_rects(screen, 1, Vec2::new(1.0, 0.5));
+        let (before, after) = (scene.frame_view(2, screen), scene.frame_view(3, screen));
+        for v in &scene.vertices {
+            let p = Vec3::from_array(v.position);
+            let shift = (after.full_from_world.project_point3(p) - before.full_from_world.project_point3(p)).truncate()
+                * Vec2::new(screen.0 as f32 / 2.0, -(screen.1 as f32) / 2.0);
+            assert!((shift - Vec2::new(1.0, 0.5)).length() < 1e-3, "moved {shift}");
+        }
+    }
+
+    #[test]
+    fn motions_parse_back_from_their_names() {
+        for motion in [Motion::Static, Motion::Pan(Vec2::new(0.5, -1.0)), Motion::Strafe(0.1), Motion::Object(0.25)] {
+            assert_eq!(Motion::parse(&motion.name()).unwrap(), motion);
+        }
+        for bad in ["", "pan_1", "pan_ax1", "strafe_inf", "object_NaN", "spin_1"] {
+            assert!(Motion::parse(bad).is_err(), "{bad:?} parsed");
+        }
+    }
+
+    #[test]
+    fn the_albedo_map_has_a_full_mip_chain() {
+        let levels = albedo_map_levels();
+        assert_eq!(levels.len(), ALBEDO_MAP_SIZE.trailing_zeros() as usize + 1);
+        assert_eq!(levels.last().unwrap().len(), 1);
+    }
+}

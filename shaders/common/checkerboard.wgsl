@@ -1,0 +1,79 @@
+// Checkerboard rendering's shared arithmetic. Sample layout: the two samples of quarter-resolution
+// pixel q sit side by side in a (2·Wq)×Hq texture, sample s at (q.x + s·Wq, q.y). Phase j (the
+// frame's jitter, 0 or 1) samples full-resolution pixel p when p.x + p.y + j is even: an even row
+// through sample 1 of q = ((x − j)/2, y/2), an odd row through sample 0 of q = ((x − 1 − j)/2, (y − 1)/2).
+
+// The layout texel holding pixel `p` in phase `phase`, or (-1, -1) where that phase has no sample
+// of it (the other phase's pixels, and the documented gap: odd rows of column 0 in phase 1).
+fn checkerboard_texel(p: vec2i, phase: i32, quarter: vec2i) -> vec2i {
+    if ((p.x + p.y + phase) & 1) != 0 {
+        return vec2i(-1);
+    }
+    let odd_row = p.y & 1;
+    let q = vec2i((p.x - odd_row - phase) >> 1u, p.y >> 1u);
+    if q.x < 0 || q.x >= quarter.x || q.y >= quarter.y {
+        return vec2i(-1);
+    }
+    return vec2i(q.x + (1 - odd_row) * quarter.x, q.y);
+}
+
+// The quarter pixel and sample index a layout texel holds.
+fn layout_sample(texel: vec2i, quarter: vec2i) -> vec3i {
+    let sample = select(0, 1, texel.x >= quarter.x);
+    return vec3i(texel.x - sample * quarter.x, texel.y, sample);
+}
+
+// The full-resolution pixel centre the layout texel's sample sees in phase `phase` (standard 2x
+// positions: sample 0 at (0.75, 0.75), sample 1 at (0.25, 0.25) of its quarter pixel).
+fn layout_pixel_centre(texel: vec2i, quarter: vec2i, phase: i32) -> vec2f {
+    let at = layout_sample(texel, quarter);
+    let offset = select(vec2f(1.5), vec2f(0.5), at.z == 1);
+    return 2.0 * vec2f(at.xy) + offset + vec2f(f32(phase), 0.0);
+}
+
+// The world position of a full-resolution pixel centre at depth-buffer value `depth`.
+fn unproject(centre: vec2f, depth: f32, screen: vec2f, world_from_clip: mat4x4f) -> vec3f {
+    let ndc = vec3f(centre.x / screen.x * 2.0 - 1.0, 1.0 - centre.y / screen.y * 2.0, depth);
+    let world = world_from_clip * vec4f(ndc, 1.0);
+    return world.xyz / world.w;
+}
+
+// Where a world point lands on the full-resolution screen, in pixels.
+fn project_to_pixels(world: vec3f, clip_from_world: mat4x4f, screen: vec2f) -> vec2f {
+    let clip = clip_from_world * vec4f(world, 1.0);
+    let ndc = clip.xy / clip.w;
+    return vec2f((ndc.x + 1.0) * 0.5 * screen.x, (1.0 - ndc.y) * 0.5 * screen.y);
+}
+
+// Distance along the view axis from a [0, 1] depth-buffer value of a right-handed perspective.
+fn linear_depth(depth: f32, near: f32, far: f32) -> f32 {
+    return near * far / (far - depth * (far - near));
+}
+
+// A reversible tonemap: blending through it keeps one bright sample from dominating a fill.
+fn compress_hdr(colour: vec3f) -> vec3f {
+    return colour / (1.0 + max(colour.r, max(colour.g, colour.b)));
+}
+
+fn expand_hdr(colour: vec3f) -> vec3f {
+    return colour / max(1.0 - max(colour.r, max(colour.g, colour.b)), 1e-4);
+}
+
+// One G-buffer sample's colour: unlit flat colour where the shininess is negative, the
+// background where nothing was drawn (zero normal), Phong otherwise.
+fn shade_checkerboard_sample(
+    normal: vec4f,
+    albedo: vec4f,
+    world: vec3f,
+    eye: vec3f,
+    lights: texture_2d<f32>,
+    light_count: u32,
+) -> vec3f {
+    if dot(normal.xyz, normal.xyz) == 0.0 {
+        return BACKGROUND;
+    }
+    if normal.w < 0.0 {
+        return albedo.rgb;
+    }
+    return shade_sample(vec4f(world, 1.0), normal, albedo, eye, lights, light_count);
+}
