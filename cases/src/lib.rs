@@ -35,4 +35,5 @@ pub const ALL: &[Case] = &[
     cbr::jitter_coverage::CASE,
     cbr::reconstruct_static::CASE,
     cbr::reconstruct_moving::CASE,
+    cbr::extremes::CASE,
 ];

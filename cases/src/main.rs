@@ -111,9 +111,12 @@ enum Technique {
         /// forward or deferred.
         #[arg(long, default_value = "forward")]
         shading: String,
-        /// cso or aso.
+        /// cso, cso:<tolerance> or aso.
         #[arg(long, default_value = "cso")]
         detection: String,
+        /// auto (the kit's measured choice), msaa2x or offset_passes.
+        #[arg(long, default_value = "auto")]
+        path: String,
         #[arg(long, default_value_t = 4)]
         frames: u32,
         #[arg(long, default_value_t = 32)]
@@ -151,6 +154,22 @@ enum ReportTechnique {
         max_levels: Vec<u32>,
         #[arg(long, default_value_t = 3)]
         repeats: u32,
+    },
+    /// CBR: full resolution, checkerboarding (forward/deferred × ASO/CSO × path) and a half-resolution
+    /// upscale, on static and moving sequences.
+    Cbr {
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, default_value = "320x180", value_parser = parse_size)]
+        size: (u32, u32),
+        #[arg(long, default_value_t = 64)]
+        lights: u32,
+        /// Frames a sequence runs (the first is warm-up, the last is measured).
+        #[arg(long, default_value_t = 6)]
+        frames: u32,
+        /// Sequences: static, pan_<x>x<y>, strafe_<metres>, object_<metres> (default: one of each).
+        #[arg(long, value_delimiter = ',')]
+        motions: Vec<String>,
     },
 }
 
@@ -246,14 +265,14 @@ fn render(selector: &AdapterSelector, technique: Technique) -> Result<()> {
                 println!("{}", path.display());
             }
         }
-        Technique::Cbr { out, size, motion, shading, detection, frames, lights, seed } => {
+        Technique::Cbr { out, size, motion, shading, detection, path, frames, lights, seed } => {
             let motion = fragkit::cbr::scene::Motion::parse(&motion)?;
             let shading = fragkit::cbr::Shading::parse(&shading)?;
             let detection = fragkit::cbr::Detection::parse(&detection)?;
             std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
             let gpu = Gpu::open(selector)?;
             let scene = fragkit::cbr::scene::textured_corridor(seed, lights, motion);
-            let path = fragkit::cbr::sampling::CheckerboardPath::for_adapter(&gpu);
+            let path = fragkit::cbr::sampling::CheckerboardPath::choose(&gpu, &path)?;
             let config = fragkit::cbr::CheckerboardConfig {
                 detection,
                 ..fragkit::cbr::CheckerboardConfig::new(size, path, shading)
@@ -323,6 +342,33 @@ fn report(selector: &AdapterSelector, technique: ReportTechnique) -> Result<()> 
             progress.finish_and_clear();
             fragkit::cps::report::write_report(&out, &gpu.description, &rows)?;
             println!("{}", out.join("cps_report.md").display());
+        }
+        ReportTechnique::Cbr { out, size, lights, frames, motions } => {
+            let motions = motions.iter().map(|m| fragkit::cbr::scene::Motion::parse(m)).collect::<Result<Vec<_>>>()?;
+            anyhow::ensure!(
+                frames >= 2,
+                "--frames {frames}: a sequence needs at least 2 frames (warm-up and one timed)"
+            );
+            let gpu = Gpu::open(selector)?;
+            fragkit::cbr::renderer::check_checkerboard_screen(&gpu, size)?;
+            let defaults = fragkit::cbr::report::CbrSweep::for_adapter(&gpu);
+            let sweep = fragkit::cbr::report::CbrSweep {
+                size,
+                lights,
+                frames,
+                motions: if motions.is_empty() { defaults.motions.clone() } else { motions },
+                ..defaults
+            };
+            let progress = indicatif::ProgressBar::new_spinner();
+            let rows = gpu.scoped("cbr report", || {
+                fragkit::cbr::report::run_sweep(&gpu, &sweep, |sequence| {
+                    progress.set_message(sequence.to_owned());
+                    progress.tick();
+                })
+            })?;
+            progress.finish_and_clear();
+            fragkit::cbr::report::write_report(&out, &gpu.description, &sweep, &rows)?;
+            println!("{}", out.join("cbr_report.md").display());
         }
     }
     Ok(())

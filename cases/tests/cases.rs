@@ -77,4 +77,5 @@ case_tests! {
     cbr_jitter_coverage => "cbr.jitter.coverage",
     cbr_reconstruct_static => "cbr.reconstruct.static",
     cbr_reconstruct_moving => "cbr.reconstruct.moving",
+    cbr_extremes => "cbr.extremes",
 }

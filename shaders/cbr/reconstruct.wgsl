@@ -37,13 +37,15 @@ const FILLED_OFF_SCREEN: u32 = 6u;
 // A quarter-resolution pixel is two full-resolution pixels wide.
 const QUARTER_PIXEL: f32 = 2.0;
 
+// Depth buffers are bound as unfilterable float (`.r`): naga's GLSL output has no textureLoad
+// on depth textures.
 @group(0) @binding(0) var<uniform> rebuild: Reconstruction;
 @group(0) @binding(1) var current_colour: texture_2d<f32>;
-@group(0) @binding(2) var current_depth: texture_depth_2d;
+@group(0) @binding(2) var current_depth: texture_2d<f32>;
 @group(0) @binding(3) var current_motion: texture_2d<f32>;
 @group(0) @binding(4) var current_forward: texture_2d<f32>;
 @group(0) @binding(5) var previous_colour: texture_2d<f32>;
-@group(0) @binding(6) var previous_depth: texture_depth_2d;
+@group(0) @binding(6) var previous_depth: texture_2d<f32>;
 @group(0) @binding(7) var previous_motion: texture_2d<f32>;
 @group(0) @binding(8) var previous_forward: texture_2d<f32>;
 
@@ -158,7 +160,7 @@ fn reconstruct(p: vec2i) -> Rebuilt {
         if texel.x < 0 {
             continue;
         }
-        let depth = textureLoad(current_depth, texel, 0);
+        let depth = textureLoad(current_depth, texel, 0).r;
         fill_sum += compress_hdr(current_sample(texel));
         depth_sum += linear_depth(depth, rebuild.near, rebuild.far);
         count += 1.0;
@@ -216,7 +218,7 @@ fn missing(centre: vec2f, fill: vec3f, motion: vec2f, mean_depth: f32, moving_ob
         if !has(DEPTH_CHECK) {
             return rebuilt(fill, FILLED_ASSUMED);
         }
-        let then = linear_depth(textureLoad(previous_depth, history, 0), rebuild.near, rebuild.far);
+        let then = linear_depth(textureLoad(previous_depth, history, 0).r, rebuild.near, rebuild.far);
         if abs(then - mean_depth) > rebuild.depth_tolerance * mean_depth {
             return rebuilt(fill, FILLED_DISOCCLUDED);
         }

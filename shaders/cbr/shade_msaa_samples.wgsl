@@ -13,7 +13,7 @@ struct SampleShading {
 @group(0) @binding(0) var<uniform> shading: SampleShading;
 @group(0) @binding(1) var gbuffer_normal: texture_multisampled_2d<f32>;
 @group(0) @binding(2) var gbuffer_albedo: texture_multisampled_2d<f32>;
-@group(0) @binding(3) var gbuffer_depth: texture_depth_multisampled_2d;
+@group(0) @binding(3) var gbuffer_depth: texture_multisampled_2d<f32>;
 @group(0) @binding(4) var lights: texture_2d<f32>;
 
 @fragment
@@ -21,7 +21,7 @@ fn fs_shade_msaa_samples(@builtin(position) position: vec4f) -> @location(0) vec
     let texel = vec2i(position.xy);
     let at = layout_sample(texel, shading.quarter);
     let centre = layout_pixel_centre(texel, shading.quarter, shading.phase);
-    let world = unproject(centre, textureLoad(gbuffer_depth, at.xy, at.z), shading.screen, shading.world_from_clip);
+    let world = unproject(centre, textureLoad(gbuffer_depth, at.xy, at.z).r, shading.screen, shading.world_from_clip);
     let normal = textureLoad(gbuffer_normal, at.xy, at.z);
     let albedo = textureLoad(gbuffer_albedo, at.xy, at.z);
     return vec4f(shade_checkerboard_sample(normal, albedo, world, shading.eye, lights, shading.light_count), 1.0);

@@ -8,7 +8,7 @@ struct Layout {
 
 @group(0) @binding(0) var<uniform> sample_layout: Layout;
 @group(0) @binding(1) var samples: texture_multisampled_2d<f32>;
-@group(0) @binding(2) var depth_samples: texture_depth_multisampled_2d;
+@group(0) @binding(2) var depth_samples: texture_multisampled_2d<f32>;
 
 @fragment
 fn fs_unpack_colour(@builtin(position) position: vec4f) -> @location(0) vec4f {
@@ -19,5 +19,5 @@ fn fs_unpack_colour(@builtin(position) position: vec4f) -> @location(0) vec4f {
 @fragment
 fn fs_unpack_depth(@builtin(position) position: vec4f) -> @builtin(frag_depth) f32 {
     let at = layout_sample(vec2i(position.xy), sample_layout.quarter);
-    return textureLoad(depth_samples, at.xy, at.z);
+    return textureLoad(depth_samples, at.xy, at.z).r;
 }

@@ -11,7 +11,7 @@ fn checkerboard_texel(p: vec2i, phase: i32, quarter: vec2i) -> vec2i {
     }
     let odd_row = p.y & 1;
     let q = vec2i((p.x - odd_row - phase) >> 1u, p.y >> 1u);
-    if q.x < 0 || q.x >= quarter.x || q.y >= quarter.y {
+    if any(q < vec2i(0)) || any(q >= quarter) {
         return vec2i(-1);
     }
     return vec2i(q.x + (1 - odd_row) * quarter.x, q.y);

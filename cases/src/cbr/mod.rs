@@ -1,5 +1,6 @@
 //! `cbr.*`: checkerboard rendering.
 
+pub mod extremes;
 pub mod jitter_coverage;
 pub mod reconstruct_moving;
 pub mod reconstruct_static;

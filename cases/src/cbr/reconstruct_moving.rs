@@ -47,24 +47,31 @@ const SEQUENCES: [Sequence; 5] = [
     Sequence { motion: Motion::Object(0.25), min_psnr_db: 45.0 },
 ];
 
-/// Renders `frames` frames; the last frame's reconstruction, reference and sources.
-fn last_frame(
-    ctx: &mut Ctx,
-    scene: &CheckerboardScene,
-    config: CheckerboardConfig,
-    frames: u32,
-) -> Result<(Vec<f32>, Vec<f32>, Vec<PixelSource>)> {
+/// The last of `frames` frames: reconstruction, reference, sources, and whether the passes
+/// that ran are the ones its plan lists (nothing the scene does not need).
+struct LastFrame {
+    result: Vec<f32>,
+    reference: Vec<f32>,
+    sources: Vec<PixelSource>,
+    passes: Vec<String>,
+    planned: Vec<&'static str>,
+}
+
+fn last_frame(ctx: &mut Ctx, scene: &CheckerboardScene, config: CheckerboardConfig, frames: u32) -> Result<LastFrame> {
     let mut checkerboard = Checkerboard::new(ctx.gpu, scene, config)?;
+    let mut passes = Vec::new();
     for frame in 0..frames {
-        checkerboard.render(ctx.gpu, frame)?;
+        passes = checkerboard.render(ctx.gpu, frame)?.passes;
     }
     let mut fullres = FullResolutionScene::new(ctx.gpu, scene, config.screen)?;
     fullres.render(ctx.gpu, frames - 1)?;
-    Ok((
-        read_hdr(ctx.gpu, &checkerboard.reconstruction.colour)?,
-        read_hdr(ctx.gpu, fullres.output())?,
-        read_sources(ctx.gpu, &checkerboard.reconstruction)?,
-    ))
+    Ok(LastFrame {
+        result: read_hdr(ctx.gpu, &checkerboard.reconstruction.colour)?,
+        reference: read_hdr(ctx.gpu, fullres.output())?,
+        sources: read_sources(ctx.gpu, &checkerboard.reconstruction)?,
+        passes,
+        planned: checkerboard.plan().passes(),
+    })
 }
 
 /// The sources the CPU mapping predicts for a uniform integer pan: a pixel frame N did not
@@ -101,17 +108,23 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let lights = u32::try_from(ctx.params.count("lights")?)?;
     let frames = u32::try_from(ctx.params.count("frames")?)?.max(2);
     let mut problems = Vec::new();
-    for sequence in SEQUENCES {
+    for (shading, sequence) in Shading::ALL.into_iter().flat_map(|s| SEQUENCES.iter().map(move |q| (s, q))) {
         let scene = textured_corridor(5, lights, sequence.motion);
-        let name = sequence.motion.name();
+        let name = format!("{}.{}", shading.name(), sequence.motion.name());
         let mut psnr = BTreeMap::new();
         for detection in [Detection::DEFAULT_CSO, Detection::Aso] {
-            let config = CheckerboardConfig { detection, ..CheckerboardConfig::new(screen, path, Shading::Forward) };
-            let (result, reference, sources) = last_frame(ctx, &scene, config, frames)?;
-            let (error, evidence) = measure_against(screen, &result, &reference, 8)?;
-            let counts = source_counts(&sources);
+            let config = CheckerboardConfig { detection, ..CheckerboardConfig::new(screen, path, shading) };
+            let frame = last_frame(ctx, &scene, config, frames)?;
+            let (error, evidence) = measure_against(screen, &frame.result, &frame.reference, 8)?;
+            let counts = source_counts(&frame.sources);
             let key = format!("{name}.{}", detection.name());
-            ctx.metric(&key, serde_json::json!({"psnr_db": error.psnr_db, "flip": error.flip, "sources": counts}));
+            ctx.metric(
+                &key,
+                serde_json::json!({"psnr_db": error.psnr_db, "flip": error.flip, "sources": counts, "passes": frame.passes}),
+            );
+            if frame.passes != frame.planned {
+                problems.push(format!("{key}: ran passes {:?}, the plan lists {:?}", frame.passes, frame.planned));
+            }
             psnr.insert(detection.name(), error.psnr_db);
             if detection == Detection::DEFAULT_CSO && error.psnr_db < sequence.min_psnr_db {
                 ctx.evidence_image(&key, &evidence)?;

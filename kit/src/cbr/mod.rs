@@ -10,6 +10,7 @@ pub mod plan;
 pub mod probe;
 pub mod reconstruct;
 pub mod renderer;
+pub mod report;
 pub mod sampling;
 pub mod scene;
 pub mod scene_pass;

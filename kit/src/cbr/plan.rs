@@ -96,3 +96,48 @@ impl CheckerboardPlan {
         passes
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec2;
+
+    use super::*;
+    use crate::cbr::scene::{Motion, flat_rects, textured_corridor};
+
+    #[test]
+    fn a_static_opaque_scene_needs_no_motion_and_no_forward_buffer() {
+        let plan = CheckerboardPlan::new(
+            &flat_rects((16, 16), 1, Vec2::ZERO),
+            CheckerboardPath::OffsetPasses,
+            Shading::Deferred,
+        );
+        assert!(!plan.object_motion && !plan.camera_reprojection && !plan.forward_buffer && !plan.transparents);
+        assert_eq!(plan.passes(), ["gbuffer", "shade samples", "reconstruction"]);
+    }
+
+    #[test]
+    fn only_what_moves_or_is_transparent_adds_passes() {
+        let panning = textured_corridor(1, 1, Motion::Pan(Vec2::new(1.0, 0.0)));
+        let plan = CheckerboardPlan::new(&panning, CheckerboardPath::OffsetPasses, Shading::Forward);
+        // The camera's motion comes from depth in the reconstruction: no motion pass.
+        assert!(plan.camera_reprojection && !plan.object_motion && !plan.forward_buffer);
+        assert_eq!(plan.passes(), ["scene forward", "reconstruction"]);
+
+        let moving = textured_corridor(1, 1, Motion::Object(0.1));
+        let plan = CheckerboardPlan::new(&moving, CheckerboardPath::Msaa2x, Shading::Deferred);
+        assert!(!plan.camera_reprojection && plan.object_motion && plan.forward_buffer);
+        assert_eq!(
+            plan.passes(),
+            [
+                "gbuffer",
+                "forward buffer",
+                "unpack forward buffer",
+                "shade samples",
+                "unpack depth",
+                "object motion",
+                "unpack motion",
+                "reconstruction"
+            ]
+        );
+    }
+}

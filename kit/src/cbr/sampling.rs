@@ -35,6 +35,24 @@ impl CheckerboardPath {
         }
     }
 
+    /// `auto` (what [`Self::for_adapter`] picks), `msaa2x` (refused where the adapter offers no
+    /// 2x target at all) or `offset_passes`.
+    pub fn choose(gpu: &Gpu, name: &str) -> Result<Self> {
+        match name {
+            "auto" => Ok(Self::for_adapter(gpu)),
+            "offset_passes" => Ok(Self::OffsetPasses),
+            "msaa2x" => {
+                let counts = crate::caps::common_sample_counts(gpu);
+                ensure!(
+                    counts.contains(&2),
+                    "checkerboard path msaa2x needs 2x multisampling; this adapter offers {counts:?}"
+                );
+                Ok(Self::Msaa2x)
+            }
+            other => anyhow::bail!("unknown checkerboard path {other:?}; expected auto, msaa2x or offset_passes"),
+        }
+    }
+
     /// The real 2x path where this adapter renders a real 2x target at the standard positions,
     /// the offset passes otherwise (the flag alone is not trusted: llvmpipe's GL "2x" runs 4).
     pub fn for_adapter(gpu: &Gpu) -> Self {
