@@ -10,7 +10,7 @@ use fragkit::gpu::{AdapterDescription, AdapterSelector, Gpu, all_adapters};
 use fragkit::harness::expectations::{BUILT_IN, Expectations};
 use fragkit::harness::params::parse_overrides;
 use fragkit::harness::report::Report;
-use fragkit::harness::runner::{check_overrides, run_case, select};
+use fragkit::harness::runner::{check_overrides, check_sizes, run_case, select};
 
 #[derive(Parser)]
 #[command(name = "fragkit", version, about = "Deterministic, compute-free GPU conformance kit")]
@@ -76,9 +76,9 @@ enum Technique {
         /// paper, intersecting, or stiff_<layers>.
         #[arg(long, default_value = "paper")]
         scene: String,
-        #[arg(long, default_value_t = 4)]
+        #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
         samples: u32,
-        #[arg(long, default_value_t = 16)]
+        #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=100_000))]
         frames: u32,
         #[arg(long, default_value_t = 1)]
         seed: u32,
@@ -92,9 +92,9 @@ enum Technique {
         /// foveated or content.
         #[arg(long, default_value = "foveated")]
         policy: String,
-        #[arg(long, default_value_t = 5)]
+        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(0..=8))]
         max_level: u32,
-        #[arg(long, default_value_t = 200)]
+        #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u32).range(1..=65_536))]
         lights: u32,
         #[arg(long, default_value_t = 1)]
         seed: u32,
@@ -117,9 +117,9 @@ enum Technique {
         /// auto (the kit's measured choice), msaa2x or offset_passes.
         #[arg(long, default_value = "auto")]
         path: String,
-        #[arg(long, default_value_t = 4)]
+        #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=100_000))]
         frames: u32,
-        #[arg(long, default_value_t = 32)]
+        #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(1..=65_536))]
         lights: u32,
         #[arg(long, default_value_t = 5)]
         seed: u32,
@@ -137,7 +137,7 @@ enum ReportTechnique {
         /// paper, intersecting, or stiff_<layers>.
         #[arg(long, default_value = "paper")]
         scene: String,
-        #[arg(long, value_delimiter = ',', default_value = "1,4,16,64")]
+        #[arg(long, value_delimiter = ',', default_value = "1,4,16,64", value_parser = clap::value_parser!(u32).range(1..=100_000))]
         frames: Vec<u32>,
         #[arg(long, default_value_t = 1)]
         seed: u32,
@@ -148,11 +148,11 @@ enum ReportTechnique {
         out: PathBuf,
         #[arg(long, default_value = "320x180", value_parser = parse_size)]
         size: (u32, u32),
-        #[arg(long, value_delimiter = ',', default_value = "1,16,64,200")]
+        #[arg(long, value_delimiter = ',', default_value = "1,16,64,200", value_parser = clap::value_parser!(u32).range(1..=65_536))]
         lights: Vec<u32>,
-        #[arg(long, value_delimiter = ',', default_value = "2,4,6")]
+        #[arg(long, value_delimiter = ',', default_value = "2,4,6", value_parser = clap::value_parser!(u32).range(0..=8))]
         max_levels: Vec<u32>,
-        #[arg(long, default_value_t = 3)]
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=1000))]
         repeats: u32,
     },
     /// CBR: full resolution, checkerboarding (forward/deferred × ASO/CSO × path) and a half-resolution
@@ -162,10 +162,10 @@ enum ReportTechnique {
         out: PathBuf,
         #[arg(long, default_value = "320x180", value_parser = parse_size)]
         size: (u32, u32),
-        #[arg(long, default_value_t = 64)]
+        #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=65_536))]
         lights: u32,
         /// Frames a sequence runs (the first is warm-up, the last is measured).
-        #[arg(long, default_value_t = 6)]
+        #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u32).range(1..=100_000))]
         frames: u32,
         /// Sequences: static, pan_<x>x<y>, strafe_<metres>, object_<metres> (default: one of each).
         #[arg(long, value_delimiter = ',')]
@@ -243,6 +243,12 @@ fn render(selector: &AdapterSelector, technique: Technique) -> Result<()> {
             let scene = oit_scene(&scene, seed)?;
             std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
             let gpu = Gpu::open(selector)?;
+            let offered = fragkit::caps::common_sample_counts(&gpu);
+            anyhow::ensure!(
+                offered.contains(&samples),
+                "--samples {samples}: this adapter offers sample counts {offered:?}"
+            );
+            fragkit::deferred::gbuffer::check_size(&gpu, size).context("--size")?;
             let pictures = gpu.scoped("render oit", || {
                 fragkit::oit::pictures::render_all(&gpu, &scene, size, samples, frames, seed)
             })?;
@@ -256,6 +262,7 @@ fn render(selector: &AdapterSelector, technique: Technique) -> Result<()> {
             let policy = fragkit::cps::LodPolicy::parse(&policy)?;
             std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
             let gpu = Gpu::open(selector)?;
+            fragkit::deferred::gbuffer::check_size(&gpu, size).context("--size")?;
             let pictures = gpu.scoped("render cps", || {
                 fragkit::cps::pictures::render_all(&gpu, size, policy, max_level, lights, seed)
             })?;
@@ -271,6 +278,7 @@ fn render(selector: &AdapterSelector, technique: Technique) -> Result<()> {
             let detection = fragkit::cbr::Detection::parse(&detection)?;
             std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
             let gpu = Gpu::open(selector)?;
+            fragkit::cbr::renderer::check_checkerboard_screen(&gpu, size).context("--size")?;
             let scene = fragkit::cbr::scene::textured_corridor(seed, lights, motion);
             let path = fragkit::cbr::sampling::CheckerboardPath::choose(&gpu, &path)?;
             let config = fragkit::cbr::CheckerboardConfig {
@@ -309,6 +317,7 @@ fn report(selector: &AdapterSelector, technique: ReportTechnique) -> Result<()> 
             let scene = oit_scene(&scene, seed)?;
             let sweep = fragkit::oit::report::OitSweep { size, frame_counts: frames, seed };
             let gpu = Gpu::open(selector)?;
+            fragkit::deferred::gbuffer::check_size(&gpu, size).context("--size")?;
             let progress = indicatif::ProgressBar::new_spinner();
             let rows = gpu.scoped("oit report", || {
                 fragkit::oit::report::run_sweep(&gpu, &scene, &sweep, |row| {
@@ -329,6 +338,7 @@ fn report(selector: &AdapterSelector, technique: ReportTechnique) -> Result<()> 
                 ..Default::default()
             };
             let gpu = Gpu::open(selector)?;
+            fragkit::deferred::gbuffer::check_size(&gpu, size).context("--size")?;
             let progress = indicatif::ProgressBar::new_spinner();
             let rows = gpu.scoped("cps report", || {
                 fragkit::cps::report::run_sweep(&gpu, &sweep, |row| {
@@ -350,7 +360,7 @@ fn report(selector: &AdapterSelector, technique: ReportTechnique) -> Result<()> 
                 "--frames {frames}: a sequence needs at least 2 frames (warm-up and one timed)"
             );
             let gpu = Gpu::open(selector)?;
-            fragkit::cbr::renderer::check_checkerboard_screen(&gpu, size)?;
+            fragkit::cbr::renderer::check_checkerboard_screen(&gpu, size).context("--size")?;
             let defaults = fragkit::cbr::report::CbrSweep::for_adapter(&gpu);
             let sweep = fragkit::cbr::report::CbrSweep {
                 size,
@@ -400,6 +410,7 @@ fn check(
         std::fs::remove_file(&probe).ok();
     }
     let gpu = Gpu::open(selector)?;
+    check_sizes(&gpu, &cases, &overrides)?;
     let d = &gpu.description;
     println!("adapter: {} ({}, {} {})", d.name, d.backend, d.driver, d.driver_info);
 

@@ -78,3 +78,32 @@ fn a_listed_case_that_passes_fails_the_run_as_an_unexpected_pass() {
     assert_eq!(code, 1, "{text}");
     assert!(text.contains("UNEXPECTED_PASS"), "{text}");
 }
+
+#[test]
+fn bad_values_are_refused_naming_the_value_the_range_and_the_source() {
+    let out = std::env::temp_dir().join("fragkit-bad-input");
+    let out = out.to_str().unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (&["check", "cbr.reconstruct.static", "--set", "lights=0"], "0 is outside the allowed range 1..=4096"),
+        (&["check", "cbr.reconstruct.static", "--set", "sizes=100000x4"], "exceeds this adapter's texture limit"),
+        (&["check", "cbr.reconstruct.static", "--set", "sizes=1x1"], "both sides must be at least 2"),
+        (&["check", "cps.composite.matches_reference", "--set", "max_level=9"], "9 is outside the allowed range 0..=8"),
+        (&["check", "kit.determinism", "--set", "size=-3x4"], "\"-3\" in size \"-3x4\" is not an integer"),
+        (&["render", "cps", "--out", out, "--lights", "0"], "0 is not in 1..=65536"),
+        (&["render", "cps", "--out", out, "--max-level", "9"], "9 is not in 0..=8"),
+        (&["render", "cps", "--out", out, "--size", "100000x10"], "--size: render size 100000x10 exceeds"),
+        (&["render", "cbr", "--out", out, "--size", "1x1"], "smaller than 2x2"),
+        (&["render", "cbr", "--out", out, "--motion", "pan_NaNx0"], "\"NaN\" is not a finite number"),
+        (&["render", "cbr", "--out", out, "--detection", "cso:-1"], "must be a finite number >= 0"),
+        (&["render", "oit", "--out", out, "--samples", "3"], "--samples 3: this adapter offers sample counts"),
+        (&["render", "oit", "--out", out, "--frames", "0"], "0 is not in 1..=100000"),
+        (&["report", "cbr", "--out", out, "--frames", "1"], "at least 2 frames"),
+        (&["render", "cps", "--out", "/proc/fragkit-forbidden"], "creating /proc/fragkit-forbidden"),
+        (&["check", "kit.determinism", "--json", "/proc/fragkit-forbidden/r.json"], "is not writable"),
+    ];
+    for (args, needle) in cases {
+        let (code, text) = fragkit(args);
+        assert_eq!(code, 2, "fragkit {args:?}: {text}");
+        assert!(text.contains(needle), "fragkit {args:?} should say {needle:?}:\n{text}");
+    }
+}

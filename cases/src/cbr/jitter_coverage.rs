@@ -14,7 +14,7 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[ParamSpec {
         name: "sizes",
-        kind: ParamKind::Sizes,
+        kind: ParamKind::SizesFrom(2),
         default: "2x2,7x5,33x17,64x48",
         help: "full-resolution sizes",
     }],

@@ -20,11 +20,11 @@ pub const CASE: Case = Case {
     summary: "pans, parallax and a moving object stay within bounds; CSO beats ASO on disocclusion",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec { name: "size", kind: ParamKind::Sizes, default: "96x64", help: "screen size" },
-        ParamSpec { name: "lights", kind: ParamKind::Count, default: "16", help: "point lights" },
+        ParamSpec { name: "size", kind: ParamKind::SizesFrom(2), default: "96x64", help: "screen size" },
+        ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "16", help: "point lights" },
         ParamSpec {
             name: "frames",
-            kind: ParamKind::Count,
+            kind: ParamKind::CountIn(2, 10000),
             default: "4",
             help: "frames rendered; the last is measured",
         },

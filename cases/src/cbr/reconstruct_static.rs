@@ -21,9 +21,14 @@ pub const CASE: Case = Case {
     summary: "static scenes: flat-shaded reconstruction is exact, lit and textured within tolerance",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec { name: "sizes", kind: ParamKind::Sizes, default: "64x48,37x23", help: "flat-scene screen sizes" },
-        ParamSpec { name: "corridor_size", kind: ParamKind::Sizes, default: "96x64", help: "lit corridor size" },
-        ParamSpec { name: "lights", kind: ParamKind::Count, default: "16", help: "corridor point lights" },
+        ParamSpec {
+            name: "sizes",
+            kind: ParamKind::SizesFrom(2),
+            default: "64x48,37x23",
+            help: "flat-scene screen sizes",
+        },
+        ParamSpec { name: "corridor_size", kind: ParamKind::SizesFrom(2), default: "96x64", help: "lit corridor size" },
+        ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "16", help: "corridor point lights" },
     ],
     run,
 };

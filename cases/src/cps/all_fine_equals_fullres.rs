@@ -18,7 +18,7 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[
         ParamSpec { name: "size", kind: ParamKind::Sizes, default: "96x64", help: "screen size" },
-        ParamSpec { name: "lights", kind: ParamKind::Count, default: "32", help: "point lights" },
+        ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "32", help: "point lights" },
     ],
     run,
 };

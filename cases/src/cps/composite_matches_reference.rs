@@ -20,8 +20,8 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[
         ParamSpec { name: "size", kind: ParamKind::Sizes, default: "64x48", help: "screen size" },
-        ParamSpec { name: "lights", kind: ParamKind::Count, default: "24", help: "point lights" },
-        ParamSpec { name: "max_level", kind: ParamKind::Count, default: "4", help: "coarsest level" },
+        ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "24", help: "point lights" },
+        ParamSpec { name: "max_level", kind: ParamKind::CountIn(0, 8), default: "4", help: "coarsest level" },
     ],
     run,
 };

@@ -17,8 +17,8 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::TIMESTAMP_QUERY,
     params: &[
         ParamSpec { name: "size", kind: ParamKind::Sizes, default: "128x128", help: "screen size" },
-        ParamSpec { name: "lights", kind: ParamKind::Count, default: "64", help: "point lights" },
-        ParamSpec { name: "repeats", kind: ParamKind::Count, default: "3", help: "timed repeats (median)" },
+        ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "64", help: "point lights" },
+        ParamSpec { name: "repeats", kind: ParamKind::CountIn(1, 1000), default: "3", help: "timed repeats (median)" },
     ],
     run,
 };

@@ -19,7 +19,12 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[
         ParamSpec { name: "size", kind: ParamKind::Sizes, default: "96x64", help: "target size" },
-        ParamSpec { name: "triangles", kind: ParamKind::Count, default: "48", help: "triangles in the scene" },
+        ParamSpec {
+            name: "triangles",
+            kind: ParamKind::CountIn(1, 1000000),
+            default: "48",
+            help: "triangles in the scene",
+        },
         ParamSpec { name: "seed", kind: ParamKind::Count, default: "7", help: "scene and noise seed" },
     ],
     run,

@@ -21,8 +21,18 @@ pub const CASE: Case = Case {
             default: "36x36",
             help: "stencil-marked square (1.98 % of 256x256)",
         },
-        ParamSpec { name: "iterations", kind: ParamKind::Count, default: "96", help: "shader loop length" },
-        ParamSpec { name: "repeats", kind: ParamKind::Count, default: "3", help: "timed repeats (median taken)" },
+        ParamSpec {
+            name: "iterations",
+            kind: ParamKind::CountIn(1, 100000),
+            default: "96",
+            help: "shader loop length",
+        },
+        ParamSpec {
+            name: "repeats",
+            kind: ParamKind::CountIn(1, 1000),
+            default: "3",
+            help: "timed repeats (median taken)",
+        },
     ],
     run,
 };

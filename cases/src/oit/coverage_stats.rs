@@ -26,7 +26,12 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[
         ParamSpec { name: "size", kind: ParamKind::Sizes, default: "64x64", help: "pixels per frame" },
-        ParamSpec { name: "frames", kind: ParamKind::Count, default: "8", help: "frames (seeds) averaged" },
+        ParamSpec {
+            name: "frames",
+            kind: ParamKind::CountIn(1, 100000),
+            default: "8",
+            help: "frames (seeds) averaged",
+        },
     ],
     run,
 };

@@ -9,10 +9,14 @@ use serde::Serialize;
 pub enum ParamKind {
     /// A non-negative integer.
     Count,
+    /// An integer in `min..=max`.
+    CountIn(u64, u64),
     /// A comma-separated list of non-negative integers: `1,2,4,8`.
     Counts,
     /// A comma-separated list of sizes: `1x1,7x5,64x64`.
     Sizes,
+    /// Sizes whose sides are all at least this.
+    SizesFrom(u32),
 }
 
 /// A parameter a case declares.
@@ -50,8 +54,22 @@ impl ParamKind {
     pub fn parse(self, text: &str) -> Result<ParamValue> {
         Ok(match self {
             ParamKind::Count => ParamValue::Count(parse_count(text)?),
+            ParamKind::CountIn(min, max) => {
+                let value = parse_count(text)?;
+                if !(min..=max).contains(&value) {
+                    bail!("{value} is outside the allowed range {min}..={max}");
+                }
+                ParamValue::Count(value)
+            }
             ParamKind::Counts => ParamValue::Counts(text.split(',').map(parse_count).collect::<Result<_>>()?),
             ParamKind::Sizes => ParamValue::Sizes(text.split(',').map(parse_size).collect::<Result<_>>()?),
+            ParamKind::SizesFrom(min) => {
+                let sizes: Vec<(u32, u32)> = text.split(',').map(parse_size).collect::<Result<_>>()?;
+                if let Some((w, h)) = sizes.iter().find(|(w, h)| *w < min || *h < min) {
+                    bail!("size {w}x{h} is too small: both sides must be at least {min}");
+                }
+                ParamValue::Sizes(sizes)
+            }
         })
     }
 }

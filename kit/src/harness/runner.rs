@@ -11,7 +11,7 @@ use glob::Pattern;
 
 use super::case::{Case, Ctx, Outcome};
 use super::expectations::{Expectations, KnownIssue};
-use super::params::Params;
+use super::params::{ParamKind, Params};
 use super::report::{CaseRecord, ReportedOutcome};
 use crate::gpu::Gpu;
 
@@ -48,6 +48,28 @@ pub fn check_overrides(cases: &[&Case], overrides: &BTreeMap<String, String>) ->
         }
         for case in owners {
             Params::resolve(case.name, case.params, overrides)?;
+        }
+    }
+    Ok(())
+}
+
+/// Checks every size parameter of the selected cases against the adapter's texture limit, so
+/// that a size no target can have is refused before anything runs.
+pub fn check_sizes(gpu: &Gpu, cases: &[&Case], overrides: &BTreeMap<String, String>) -> Result<()> {
+    let max = gpu.device.limits().max_texture_dimension_2d;
+    for case in cases {
+        let params = Params::resolve(case.name, case.params, overrides)?;
+        for spec in case.params.iter().filter(|s| matches!(s.kind, ParamKind::Sizes | ParamKind::SizesFrom(_))) {
+            let source = if overrides.contains_key(spec.name) { "--set" } else { "the default" };
+            for (w, h) in params.sizes(spec.name)? {
+                if w > max || h > max {
+                    bail!(
+                        "parameter {:?} of {} (from {source}): size {w}x{h} exceeds this adapter's texture limit {max}x{max}",
+                        spec.name,
+                        case.name
+                    );
+                }
+            }
         }
     }
     Ok(())
