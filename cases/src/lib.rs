@@ -5,11 +5,12 @@ use fragkit::harness::Case;
 
 pub mod cbr;
 pub mod cps;
+pub mod fault;
 pub mod kit;
 pub mod oit;
 pub mod texarray;
 
-/// Every case, in the order `fragkit check` runs them.
+/// Every case, in the order `fragkit check` runs them (opt-in ones only when named).
 pub const ALL: &[Case] = &[
     kit::msaa_sample_positions::CASE_1X,
     kit::msaa_sample_positions::CASE_2X,
@@ -36,4 +37,7 @@ pub const ALL: &[Case] = &[
     cbr::reconstruct_static::CASE,
     cbr::reconstruct_moving::CASE,
     cbr::extremes::CASE,
+    // Opt-in (only when a pattern names them): see `fragkit::harness::runner::OPT_IN`.
+    fault::validation_error::CASE,
+    fault::device_loss::CASE,
 ];

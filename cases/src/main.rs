@@ -10,7 +10,7 @@ use fragkit::gpu::{AdapterDescription, AdapterSelector, Gpu, all_adapters};
 use fragkit::harness::expectations::{BUILT_IN, Expectations};
 use fragkit::harness::params::parse_overrides;
 use fragkit::harness::report::Report;
-use fragkit::harness::runner::{check_overrides, check_sizes, run_case, select};
+use fragkit::harness::runner::{check_overrides, check_sizes, is_opt_in, run_case, select};
 
 #[derive(Parser)]
 #[command(name = "fragkit", version, about = "Deterministic, compute-free GPU conformance kit")]
@@ -219,10 +219,16 @@ fn run(cli: Cli) -> Result<ExitCode> {
         }
         Command::List { pattern } => {
             let patterns: Vec<String> = pattern.into_iter().collect();
-            for case in select(fragkit_cases::ALL, &patterns)? {
+            let cases = if patterns.is_empty() {
+                fragkit_cases::ALL.iter().collect()
+            } else {
+                select(fragkit_cases::ALL, &patterns)?
+            };
+            for case in cases {
                 let requires =
                     if case.requires.is_empty() { String::new() } else { format!(" [requires {:?}]", case.requires) };
-                println!("{}{requires}\n    {}", case.name, case.summary);
+                let opt_in = if is_opt_in(case.name) { " [opt-in: runs only when a pattern names it]" } else { "" };
+                println!("{}{requires}{opt_in}\n    {}", case.name, case.summary);
                 for p in case.params {
                     println!("    --set {}={}   ({})", p.name, p.default, p.help);
                 }
@@ -417,10 +423,26 @@ fn check(
     let progress = indicatif::ProgressBar::new(cases.len() as u64);
     progress.set_style(indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").expect("static template"));
     let mut report = Report { adapter: gpu.description.clone(), cases: Vec::new() };
+    let mut gpu = gpu;
     for case in cases {
         progress.set_message(case.name);
         report.cases.push(run_case(&gpu, case, &overrides, &expectations, out.as_deref()));
         progress.inc(1);
+        if gpu.lost().is_some() {
+            // The lost case is recorded as failed; the rest run on a fresh device.
+            match gpu.reopen() {
+                Ok(fresh) => gpu = fresh,
+                Err(e) => {
+                    progress.finish_and_clear();
+                    if let Some(path) = &json {
+                        report.write_atomically(path)?;
+                    }
+                    return Err(
+                        e.context("reopening the device after it was lost; the report holds the cases that ran")
+                    );
+                }
+            }
+        }
     }
     progress.finish_and_clear();
     print_table(&report);
@@ -459,7 +481,8 @@ fn print_table(report: &Report) {
             gpu_ms,
             c.wall_ms,
             key_metric(&c.metrics),
-            c.reason
+            // One line a case: wgpu's multi-line messages are joined.
+            c.reason.lines().map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join(" / ")
         );
     }
 }

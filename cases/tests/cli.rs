@@ -107,3 +107,28 @@ fn bad_values_are_refused_naming_the_value_the_range_and_the_source() {
         assert!(text.contains(needle), "fragkit {args:?} should say {needle:?}:\n{text}");
     }
 }
+
+#[test]
+fn faults_fail_their_own_case_and_the_run_goes_on_on_a_new_device() {
+    let path = std::env::temp_dir().join("fragkit-fault-report.json");
+    let (code, text) = fragkit(&[
+        "check",
+        "fault.validation_error",
+        "fault.device_loss",
+        "kit.determinism",
+        "--json",
+        path.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{text}");
+    let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let cases = report["cases"].as_array().unwrap();
+    let outcome = |i: usize| (cases[i]["name"].as_str().unwrap(), cases[i]["outcome"].as_str().unwrap());
+    assert_eq!(cases.len(), 3, "{report}");
+    assert_eq!(outcome(0), ("fault.validation_error", "fail"));
+    assert!(cases[0]["reason"].as_str().unwrap().contains("Dimension X is zero"), "{report}");
+    assert_eq!(outcome(1), ("fault.device_loss", "fail"));
+    assert!(cases[1]["reason"].as_str().unwrap().contains("device lost during the case (Destroyed"), "{report}");
+    // The loss surfaced as an error inside the case, not a hang or stale pixels.
+    assert!(cases[1]["metrics"]["error_after_the_loss"].is_string(), "{report}");
+    assert_eq!(outcome(2), ("kit.determinism", "pass"), "the case after the loss runs on a new device");
+}

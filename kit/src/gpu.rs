@@ -63,6 +63,8 @@ pub struct Gpu {
     /// Times every encoder from [`Gpu::encoder`] to [`Gpu::submit`]; None without timestamps
     /// outside passes.
     clock: Option<Mutex<EncoderClock>>,
+    /// Why the device was lost, once it is (set by wgpu's device-lost callback).
+    lost: std::sync::Arc<Mutex<Option<String>>>,
 }
 
 /// A command encoder whose GPU time counts towards the running case.
@@ -181,11 +183,29 @@ impl Gpu {
         // Errors outside a case's error scope must not abort the process: log them, the
         // harness captures the ones that matter per case.
         device.on_uncaptured_error(std::sync::Arc::new(|error| log::error!("uncaptured wgpu error: {error}")));
+        let lost = std::sync::Arc::new(Mutex::new(None));
+        let lost_in_callback = lost.clone();
+        device.set_device_lost_callback(move |reason, message| {
+            *lost_in_callback.lock().unwrap_or_else(|e| e.into_inner()) =
+                Some(if message.is_empty() { format!("{reason:?}") } else { format!("{reason:?}: {message}") });
+        });
         let clock = device
             .features()
             .contains(wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
             .then(|| Mutex::new(EncoderClock::new(&device, &queue)));
-        Ok(Self { description: AdapterDescription::of(&info), adapter, device, queue, clock })
+        Ok(Self { description: AdapterDescription::of(&info), adapter, device, queue, clock, lost })
+    }
+
+    /// Why the device was lost, or None while it works. Polls first, so that a loss the driver
+    /// has reported is seen.
+    pub fn lost(&self) -> Option<String> {
+        let _ = self.device.poll(wgpu::PollType::Poll);
+        self.lost.lock().unwrap_or_else(|e| e.into_inner()).clone()
+    }
+
+    /// A fresh device on the same adapter (after a loss).
+    pub fn reopen(&self) -> Result<Self> {
+        Self::from_adapter(self.adapter.clone())
     }
 
     pub fn has(&self, features: wgpu::Features) -> bool {

@@ -15,16 +15,30 @@ use super::params::{ParamKind, Params};
 use super::report::{CaseRecord, ReportedOutcome};
 use crate::gpu::Gpu;
 
-/// Cases whose names match any of `patterns` (globs; none means all). A pattern that matches
-/// nothing is an error, so a typo never silently runs zero cases.
+/// Prefixes of the cases that run only when a pattern starting with the prefix names them:
+/// fault injection (which fails on purpose) and long soaks.
+pub const OPT_IN: &[&str] = &["fault.", "soak."];
+
+fn opt_in_prefix(name: &str) -> Option<&'static str> {
+    OPT_IN.iter().copied().find(|prefix| name.starts_with(prefix))
+}
+
+/// Whether a case runs only when a pattern starting with its prefix names it.
+pub fn is_opt_in(name: &str) -> bool {
+    opt_in_prefix(name).is_some()
+}
+
+/// Cases whose names match any of `patterns` (globs; none means all but the opt-in ones). A
+/// pattern that matches nothing is an error, so a typo never silently runs zero cases.
 pub fn select<'c>(cases: &'c [Case], patterns: &[String]) -> Result<Vec<&'c Case>> {
     if patterns.is_empty() {
-        return Ok(cases.iter().collect());
+        return Ok(cases.iter().filter(|c| opt_in_prefix(c.name).is_none()).collect());
     }
     let mut selected: Vec<&Case> = Vec::new();
     for text in patterns {
         let pattern = Pattern::new(text).map_err(|e| anyhow::anyhow!("bad case pattern {text:?}: {e}"))?;
-        let matching: Vec<&Case> = cases.iter().filter(|c| pattern.matches(c.name)).collect();
+        let named = |c: &&Case| opt_in_prefix(c.name).is_none_or(|prefix| text.starts_with(prefix));
+        let matching: Vec<&Case> = cases.iter().filter(|c| pattern.matches(c.name)).filter(named).collect();
         if matching.is_empty() {
             let names: Vec<&str> = cases.iter().map(|c| c.name).collect();
             bail!("case pattern {text:?} matches no case; cases are: {}", names.join(", "));
@@ -114,9 +128,19 @@ pub fn run_case(
             Err(payload) => Outcome::Fail(format!("panicked: {}", panic_message(payload))),
         }
     };
-    let (gpu_ms, outcome) = match gpu.take_gpu_ms() {
-        Ok(ms) => (ms, outcome),
-        Err(e) => (None, Outcome::Fail(format!("reading the case's GPU time: {e:#}"))),
+    // A lost device fails the case whatever it reported; the caller reopens the device.
+    let (gpu_ms, outcome) = match (gpu.lost(), outcome) {
+        (Some(lost), outcome) => {
+            let detail = match outcome {
+                Outcome::Fail(why) => format!("; the case saw: {why}"),
+                _ => String::new(),
+            };
+            (None, Outcome::Fail(format!("device lost during the case ({lost}){detail}")))
+        }
+        (None, outcome) => match gpu.take_gpu_ms() {
+            Ok(ms) => (ms, outcome),
+            Err(e) => (None, Outcome::Fail(format!("reading the case's GPU time: {e:#}"))),
+        },
     };
     let listed = expectations.find(case.name, &gpu.description);
     let reasons = |issues: &[&KnownIssue]| issues.iter().map(|i| i.reason.as_str()).collect::<Vec<_>>().join(" | ");
@@ -153,5 +177,28 @@ pub fn run_case(
         gpu_ms,
         wall_ms: started.elapsed().as_secs_f64() * 1e3,
         evidence: ctx.evidence,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn case(name: &'static str) -> Case {
+        Case { name, summary: "", requires: wgpu::Features::empty(), params: &[], run: |_| Ok(Outcome::Pass) }
+    }
+
+    #[test]
+    fn opt_in_cases_run_only_when_a_pattern_with_their_prefix_names_them() {
+        let cases = [case("kit.a"), case("fault.b"), case("soak.c")];
+        let names = |patterns: &[&str]| -> Vec<&str> {
+            let patterns: Vec<String> = patterns.iter().map(|p| p.to_string()).collect();
+            select(&cases, &patterns).map(|s| s.iter().map(|c| c.name).collect()).unwrap_or_default()
+        };
+        assert_eq!(names(&[]), ["kit.a"]);
+        assert_eq!(names(&["*"]), ["kit.a"]);
+        assert_eq!(names(&["soak.*"]), ["soak.c"]);
+        assert_eq!(names(&["fault.b", "kit.*"]), ["fault.b", "kit.a"]);
+        assert!(select(&cases, &["*.b".to_owned()]).is_err(), "a glob not naming the prefix selects nothing");
     }
 }

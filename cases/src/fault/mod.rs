@@ -1,0 +1,7 @@
+//! `fault.*`: fault injection, run only when named (`fragkit check 'fault.*'`). Each case breaks
+//! the GPU on purpose and therefore ends `fail`: what they check is the runner around them — the
+//! fault is captured in that case's record with its message, and the run goes on (on a new device
+//! after a loss). `cases/tests/cli.rs` runs them between ordinary cases and checks the report.
+
+pub mod device_loss;
+pub mod validation_error;
