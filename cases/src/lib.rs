@@ -8,6 +8,7 @@ pub mod cps;
 pub mod fault;
 pub mod kit;
 pub mod oit;
+pub mod soak;
 pub mod texarray;
 
 /// Every case, in the order `fragkit check` runs them (opt-in ones only when named).
@@ -40,4 +41,7 @@ pub const ALL: &[Case] = &[
     // Opt-in (only when a pattern names them): see `fragkit::harness::runner::OPT_IN`.
     fault::validation_error::CASE,
     fault::device_loss::CASE,
+    soak::cps::CASE,
+    soak::oit::CASE,
+    soak::cbr::CASE,
 ];

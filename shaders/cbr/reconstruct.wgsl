@@ -37,9 +37,11 @@ const FILLED_OFF_SCREEN: u32 = 6u;
 // A quarter-resolution pixel is two full-resolution pixels wide.
 const QUARTER_PIXEL: f32 = 2.0;
 
-// Depth buffers are bound as unfilterable float (`.r`): naga's GLSL output has no textureLoad
-// on depth textures.
-@group(0) @binding(0) var<uniform> rebuild: Reconstruction;
+// The per-frame parameters are a read-only storage buffer, not a uniform: lavapipe specialises
+// a shader on uniform values that decide branches (the phase, the flags) and, with values that
+// change every frame, kept every variant (1.6 MB a frame, measured by soak.cbr). Depth buffers are
+// bound as unfilterable float (`.r`): naga's GLSL output has no textureLoad on depth textures.
+@group(0) @binding(0) var<storage, read> rebuild: Reconstruction;
 @group(0) @binding(1) var current_colour: texture_2d<f32>;
 @group(0) @binding(2) var current_depth: texture_2d<f32>;
 @group(0) @binding(3) var current_motion: texture_2d<f32>;

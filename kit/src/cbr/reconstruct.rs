@@ -9,7 +9,9 @@ use super::sampling::quarter_size;
 use super::scene::FrameView;
 use super::scene_pass::{DEPTH, HDR};
 use crate::attachments;
-use crate::fullscreen::{FullscreenPipeline, bind_group, uniform_buffer};
+use wgpu::util::DeviceExt;
+
+use crate::fullscreen::{FullscreenPipeline, bind_group};
 use crate::gpu::Gpu;
 use crate::query::GpuTimer;
 use crate::shaders;
@@ -206,7 +208,12 @@ impl Reconstruction {
             inputs.near_far.0.to_bits(),
         ]);
         words.extend([inputs.near_far.1.to_bits(), 0, 0, 0]);
-        let uniform = uniform_buffer(gpu, "reconstruction", bytemuck::cast_slice(&words));
+        // A storage buffer: see the comment on `rebuild` in the shader.
+        let uniform = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("reconstruction parameters"),
+            contents: bytemuck::cast_slice(&words),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
 
         let view = |t: &wgpu::Texture| t.create_view(&Default::default());
         let frame_views = |frame: Option<&CheckerboardFrame>| {

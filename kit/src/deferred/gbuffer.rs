@@ -37,82 +37,103 @@ pub fn check_size(gpu: &Gpu, (width, height): (u32, u32)) -> Result<()> {
     Ok(())
 }
 
-/// Renders the scene's G-buffer at `size`.
-pub fn render_gbuffer(gpu: &Gpu, scene: &Scene, size: (u32, u32), timer: &mut GpuTimer) -> Result<Gbuffer> {
-    check_size(gpu, size)?;
-    let usage =
-        wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
-    let position = gpu.texture("gbuffer position", size, POSITION, 1, usage);
-    let normal = gpu.texture("gbuffer normal", size, NORMAL, 1, usage);
-    let albedo = gpu.texture("gbuffer albedo", size, ALBEDO, 1, usage);
-    let depth = gpu.texture("gbuffer depth", size, DEPTH, 1, usage);
-    let views = [&position, &normal, &albedo].map(|t| t.create_view(&Default::default()));
-    let depth_view = depth.create_view(&Default::default());
+/// The G-buffer pass at one size: its pipeline and targets, made once, rendered per frame.
+pub struct GbufferPass {
+    pub gbuffer: Gbuffer,
+    pipeline: wgpu::RenderPipeline,
+}
 
-    let module = shaders::GBUFFER.module(gpu);
-    let pipeline = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("gbuffer"),
-        layout: None,
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("vs_scene"),
-            compilation_options: Default::default(),
-            buffers: &[Some(wgpu::VertexBufferLayout {
-                array_stride: std::mem::size_of::<SceneVertex>() as u64,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32],
-            })],
-        },
-        primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), ..Default::default() },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: DEPTH,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("fs_gbuffer"),
-            compilation_options: Default::default(),
-            targets: &[Some(POSITION.into()), Some(NORMAL.into()), Some(ALBEDO.into())],
-        }),
-        multiview_mask: None,
-        cache: None,
-    });
-    let view_projection = scene.camera.view_projection(size.0 as f32 / size.1 as f32);
-    let camera = uniform_buffer(gpu, "camera", bytemuck::cast_slice(&view_projection.to_cols_array()));
-    let camera_group = bind_group(gpu, "camera", &pipeline, 0, &[camera.as_entire_binding()]);
-    let vertices = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("scene vertices"),
-        contents: bytemuck::cast_slice(&scene.vertices),
-        usage: wgpu::BufferUsages::VERTEX,
-    });
-    let mut encoder = gpu.encoder("gbuffer");
-    {
-        let clear = wgpu::Color::TRANSPARENT;
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+impl GbufferPass {
+    pub fn new(gpu: &Gpu, size: (u32, u32)) -> Result<Self> {
+        check_size(gpu, size)?;
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC;
+        let position = gpu.texture("gbuffer position", size, POSITION, 1, usage);
+        let normal = gpu.texture("gbuffer normal", size, NORMAL, 1, usage);
+        let albedo = gpu.texture("gbuffer albedo", size, ALBEDO, 1, usage);
+        let depth = gpu.texture("gbuffer depth", size, DEPTH, 1, usage);
+        let views = [&position, &normal, &albedo].map(|t| t.create_view(&Default::default()));
+
+        let module = shaders::GBUFFER.module(gpu);
+        let pipeline = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("gbuffer"),
-            color_attachments: &[
-                attachments::colour(&views[0], None, clear),
-                attachments::colour(&views[1], None, clear),
-                attachments::colour(&views[2], None, clear),
-            ],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &depth_view,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
-                stencil_ops: None,
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_scene"),
+                compilation_options: Default::default(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<SceneVertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32],
+                })],
+            },
+            primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), ..Default::default() },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
             }),
-            timestamp_writes: timer.pass("gbuffer"),
-            ..Default::default()
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_gbuffer"),
+                compilation_options: Default::default(),
+                targets: &[Some(POSITION.into()), Some(NORMAL.into()), Some(ALBEDO.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
         });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &camera_group, &[]);
-        pass.set_vertex_buffer(0, vertices.slice(..));
-        pass.draw(0..scene.vertices.len() as u32, 0..1);
+        Ok(Self { gbuffer: Gbuffer { size, position, normal, albedo, depth, views }, pipeline })
     }
-    timer.resolve(&mut encoder);
-    gpu.submit(encoder);
-    Ok(Gbuffer { size, position, normal, albedo, depth, views })
+
+    /// Renders `scene` into [`Self::gbuffer`].
+    pub fn render(&self, gpu: &Gpu, scene: &Scene, timer: &mut GpuTimer) {
+        let size = self.gbuffer.size;
+        let view_projection = scene.camera.view_projection(size.0 as f32 / size.1 as f32);
+        let camera = uniform_buffer(gpu, "camera", bytemuck::cast_slice(&view_projection.to_cols_array()));
+        let camera_group = bind_group(gpu, "camera", &self.pipeline, 0, &[camera.as_entire_binding()]);
+        let vertices = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene vertices"),
+            contents: bytemuck::cast_slice(&scene.vertices),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let depth_view = self.gbuffer.depth.create_view(&Default::default());
+        let views = &self.gbuffer.views;
+        let mut encoder = gpu.encoder("gbuffer");
+        {
+            let clear = wgpu::Color::TRANSPARENT;
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("gbuffer"),
+                color_attachments: &[
+                    attachments::colour(&views[0], None, clear),
+                    attachments::colour(&views[1], None, clear),
+                    attachments::colour(&views[2], None, clear),
+                ],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth_view,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: timer.pass("gbuffer"),
+                ..Default::default()
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &camera_group, &[]);
+            pass.set_vertex_buffer(0, vertices.slice(..));
+            pass.draw(0..scene.vertices.len() as u32, 0..1);
+        }
+        timer.resolve(&mut encoder);
+        gpu.submit(encoder);
+    }
+}
+
+/// Renders the scene's G-buffer at `size` once.
+pub fn render_gbuffer(gpu: &Gpu, scene: &Scene, size: (u32, u32), timer: &mut GpuTimer) -> Result<Gbuffer> {
+    let pass = GbufferPass::new(gpu, size)?;
+    pass.render(gpu, scene, timer);
+    Ok(pass.gbuffer)
 }

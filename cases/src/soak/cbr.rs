@@ -1,0 +1,42 @@
+//! `soak.cbr`: checkerboard rendering (forward, CSO) of the corridor with a box crossing it.
+
+use anyhow::Result;
+use fragkit::cbr::sampling::CheckerboardPath;
+use fragkit::cbr::scene::{Motion, textured_corridor};
+use fragkit::cbr::{Checkerboard, CheckerboardConfig, Shading};
+use fragkit::gpu::Gpu;
+use fragkit::harness::{Case, Ctx, Outcome};
+use fragkit::readback::read_texture;
+
+use super::{PARAMS, Soaked, soak};
+
+pub const CASE: Case = Case {
+    name: "soak.cbr",
+    summary: "checkerboarding over many frames and resizes: no memory growth, last frame reproducible",
+    requires: wgpu::Features::empty(),
+    params: PARAMS,
+    run,
+};
+
+impl Soaked for Checkerboard {
+    fn new(gpu: &Gpu, size: (u32, u32)) -> Result<Self> {
+        let scene = textured_corridor(5, 8, Motion::Object(0.01));
+        Checkerboard::new(
+            gpu,
+            &scene,
+            CheckerboardConfig::new(size, CheckerboardPath::for_adapter(gpu), Shading::Forward),
+        )
+    }
+
+    fn render(&mut self, gpu: &Gpu, frame: u32) -> Result<()> {
+        Checkerboard::render(self, gpu, frame).map(|_| ())
+    }
+
+    fn output(&self, gpu: &Gpu) -> Result<Vec<u8>> {
+        Ok(read_texture(gpu, &self.reconstruction.colour, wgpu::TextureAspect::All, 0)?.bytes)
+    }
+}
+
+fn run(ctx: &mut Ctx) -> Result<Outcome> {
+    soak::<Checkerboard>(ctx)
+}
