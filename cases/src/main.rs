@@ -78,7 +78,7 @@ enum Technique {
         scene: String,
         #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
         samples: u32,
-        #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+        #[arg(long, default_value_t = 16, value_parser = frame_count())]
         frames: u32,
         #[arg(long, default_value_t = 1)]
         seed: u32,
@@ -92,9 +92,9 @@ enum Technique {
         /// foveated or content.
         #[arg(long, default_value = "foveated")]
         policy: String,
-        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(0..=8))]
+        #[arg(long, default_value_t = 5, value_parser = lod_level())]
         max_level: u32,
-        #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u32).range(1..=65_536))]
+        #[arg(long, default_value_t = 200, value_parser = light_count())]
         lights: u32,
         #[arg(long, default_value_t = 1)]
         seed: u32,
@@ -117,9 +117,9 @@ enum Technique {
         /// auto (the kit's measured choice), msaa2x or offset_passes.
         #[arg(long, default_value = "auto")]
         path: String,
-        #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+        #[arg(long, default_value_t = 4, value_parser = frame_count())]
         frames: u32,
-        #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(1..=65_536))]
+        #[arg(long, default_value_t = 32, value_parser = light_count())]
         lights: u32,
         #[arg(long, default_value_t = 5)]
         seed: u32,
@@ -137,7 +137,7 @@ enum ReportTechnique {
         /// paper, intersecting, or stiff_<layers>.
         #[arg(long, default_value = "paper")]
         scene: String,
-        #[arg(long, value_delimiter = ',', default_value = "1,4,16,64", value_parser = clap::value_parser!(u32).range(1..=100_000))]
+        #[arg(long, value_delimiter = ',', default_value = "1,4,16,64", value_parser = frame_count())]
         frames: Vec<u32>,
         #[arg(long, default_value_t = 1)]
         seed: u32,
@@ -148,9 +148,9 @@ enum ReportTechnique {
         out: PathBuf,
         #[arg(long, default_value = "320x180", value_parser = parse_size)]
         size: (u32, u32),
-        #[arg(long, value_delimiter = ',', default_value = "1,16,64,200", value_parser = clap::value_parser!(u32).range(1..=65_536))]
+        #[arg(long, value_delimiter = ',', default_value = "1,16,64,200", value_parser = light_count())]
         lights: Vec<u32>,
-        #[arg(long, value_delimiter = ',', default_value = "2,4,6", value_parser = clap::value_parser!(u32).range(0..=8))]
+        #[arg(long, value_delimiter = ',', default_value = "2,4,6", value_parser = lod_level())]
         max_levels: Vec<u32>,
         #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=1000))]
         repeats: u32,
@@ -162,15 +162,30 @@ enum ReportTechnique {
         out: PathBuf,
         #[arg(long, default_value = "320x180", value_parser = parse_size)]
         size: (u32, u32),
-        #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=65_536))]
+        #[arg(long, default_value_t = 64, value_parser = light_count())]
         lights: u32,
         /// Frames a sequence runs (the first is warm-up, the last is measured).
-        #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+        #[arg(long, default_value_t = 6, value_parser = frame_count())]
         frames: u32,
         /// Sequences: static, pan_<x>x<y>, strafe_<metres>, object_<metres> (default: one of each).
         #[arg(long, value_delimiter = ',')]
         motions: Vec<String>,
     },
+}
+
+/// Light counts: at least one; 65536 lights are 2048 rows of the 64-wide light texture, within
+/// WebGPU's guaranteed 8192.
+fn light_count() -> clap::builder::RangedI64ValueParser<u32> {
+    clap::value_parser!(u32).range(1..=65_536)
+}
+
+fn frame_count() -> clap::builder::RangedI64ValueParser<u32> {
+    clap::value_parser!(u32).range(1..=100_000)
+}
+
+/// CPS levels: 0..=8 (2^8-pixel coarse fragments, the stencil pyramid's top).
+fn lod_level() -> clap::builder::RangedI64ValueParser<u32> {
+    clap::value_parser!(u32).range(0..=fragkit::cps::MAX_LEVEL as i64)
 }
 
 fn parse_size(text: &str) -> Result<(u32, u32), String> {

@@ -67,22 +67,17 @@ fn on_screen(p: vec2i) -> bool {
 
 // A frame's colour at a layout texel: the shaded sample, under the forward buffer's
 // transparent objects where the deferred path has them.
-fn current_sample(texel: vec2i) -> vec3f {
-    let shaded = textureLoad(current_colour, texel, 0).rgb;
+fn frame_sample(colour: texture_2d<f32>, forward: texture_2d<f32>, texel: vec2i) -> vec3f {
+    let shaded = textureLoad(colour, texel, 0).rgb;
     if !has(FORWARD_BUFFER) {
         return shaded;
     }
-    let over = textureLoad(current_forward, texel, 0);
+    let over = textureLoad(forward, texel, 0);
     return shaded * (1.0 - over.a) + over.rgb;
 }
 
-fn previous_sample(texel: vec2i) -> vec3f {
-    let shaded = textureLoad(previous_colour, texel, 0).rgb;
-    if !has(FORWARD_BUFFER) {
-        return shaded;
-    }
-    let over = textureLoad(previous_forward, texel, 0);
-    return shaded * (1.0 - over.a) + over.rgb;
+fn current_sample(texel: vec2i) -> vec3f {
+    return frame_sample(current_colour, current_forward, texel);
 }
 
 fn rebuilt(colour: vec3f, source: u32) -> Rebuilt {
@@ -225,5 +220,5 @@ fn missing(centre: vec2f, fill: vec3f, motion: vec2f, mean_depth: f32, moving_ob
             return rebuilt(fill, FILLED_DISOCCLUDED);
         }
     }
-    return rebuilt(previous_sample(history), FROM_HISTORY);
+    return rebuilt(frame_sample(previous_colour, previous_forward, history), FROM_HISTORY);
 }

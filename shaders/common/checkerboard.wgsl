@@ -77,3 +77,27 @@ fn shade_checkerboard_sample(
     }
     return shade_sample(vec4f(world, 1.0), normal, albedo, eye, lights, light_count);
 }
+
+// The deferred shade passes' per-frame parameters.
+struct SampleShading {
+    world_from_clip: mat4x4f,
+    screen: vec2f,
+    quarter: vec2i,
+    eye: vec3f,
+    light_count: u32,
+    phase: i32,
+}
+
+// The colour of the G-buffer sample a shade-resolve texel holds, its world position from depth.
+fn shade_layout_texel(
+    shading: SampleShading,
+    texel: vec2i,
+    normal: vec4f,
+    albedo: vec4f,
+    depth: f32,
+    lights: texture_2d<f32>,
+) -> vec4f {
+    let centre = layout_pixel_centre(texel, shading.quarter, shading.phase);
+    let world = unproject(centre, depth, shading.screen, shading.world_from_clip);
+    return vec4f(shade_checkerboard_sample(normal, albedo, world, shading.eye, lights, shading.light_count), 1.0);
+}

@@ -6,10 +6,10 @@
 //! may be NaN or infinite.
 
 use anyhow::Result;
-use fragkit::cbr::measure::{measure_against, read_hdr, read_sources};
+use fragkit::cbr::measure::{ComparedFrame, measure_against, render_with_reference};
 use fragkit::cbr::sampling::{CheckerboardPath, sampled_pixels};
-use fragkit::cbr::scene::{CheckerboardScene, flat_rects};
-use fragkit::cbr::{Checkerboard, CheckerboardConfig, FullResolutionScene, PixelSource, Shading};
+use fragkit::cbr::scene::flat_rects;
+use fragkit::cbr::{CheckerboardConfig, PixelSource, Shading};
 use fragkit::harness::{Case, Ctx, Outcome};
 use glam::Vec2;
 
@@ -20,26 +20,6 @@ pub const CASE: Case = Case {
     params: &[],
     run,
 };
-
-/// Frames 0..frames of `scene` checkerboarded, and the last frame at full resolution.
-fn render(
-    ctx: &mut Ctx,
-    scene: &CheckerboardScene,
-    config: CheckerboardConfig,
-    frames: u32,
-) -> Result<(Vec<f32>, Vec<f32>, Vec<PixelSource>)> {
-    let mut checkerboard = Checkerboard::new(ctx.gpu, scene, config)?;
-    for frame in 0..frames {
-        checkerboard.render(ctx.gpu, frame)?;
-    }
-    let mut fullres = FullResolutionScene::new(ctx.gpu, scene, config.screen)?;
-    fullres.render(ctx.gpu, frames - 1)?;
-    Ok((
-        read_hdr(ctx.gpu, &checkerboard.reconstruction.colour)?,
-        read_hdr(ctx.gpu, fullres.output())?,
-        read_sources(ctx.gpu, &checkerboard.reconstruction)?,
-    ))
-}
 
 fn check_finite(key: &str, image: &[f32], problems: &mut Vec<String>) {
     let bad = image.chunks_exact(4).filter(|t| t.iter().any(|v| !v.is_finite())).count();
@@ -58,7 +38,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         for screen in [(2, 2), (3, 3), (5, 2), (2, 7)] {
             let key = format!("{}.static_{}x{}", shading.name(), screen.0, screen.1);
             let scene = flat_rects(screen, 11, Vec2::ZERO);
-            let (result, reference, _) = render(ctx, &scene, CheckerboardConfig::new(screen, path, shading), 2)?;
+            let ComparedFrame { result, reference, .. } =
+                render_with_reference(ctx.gpu, &scene, CheckerboardConfig::new(screen, path, shading), 2)?;
             let (error, _) = measure_against(screen, &result, &reference, 0)?;
             ctx.metric(&key, error.inexact_pixels);
             check_finite(&key, &result, &mut problems);
@@ -72,7 +53,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         // The first frame: every pixel frame 0 did not sample is filled (the gap column is
         // sampled by neither phase and is filled too).
         let key = format!("{}.first_frame", shading.name());
-        let (result, _, sources) = render(ctx, &flat_rects(screen, 5, Vec2::ZERO), config, 1)?;
+        let ComparedFrame { result, sources, .. } =
+            render_with_reference(ctx.gpu, &flat_rects(screen, 5, Vec2::ZERO), config, 1)?;
         let sampled = sampled_pixels(screen, 0);
         let wrong = sources
             .iter()
@@ -89,7 +71,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         // Motion larger than the screen: no history anywhere.
         let key = format!("{}.motion_past_screen", shading.name());
         let scene = flat_rects(screen, 5, Vec2::new(1000.0, -700.0));
-        let (result, _, sources) = render(ctx, &scene, config, 3)?;
+        let ComparedFrame { result, sources, .. } = render_with_reference(ctx.gpu, &scene, config, 3)?;
         let history = sources.iter().filter(|s| **s == PixelSource::History).count();
         let off_screen = sources.iter().filter(|s| **s == PixelSource::OffScreen).count();
         ctx.metric(&key, serde_json::json!({"history": history, "off_screen": off_screen}));
@@ -106,7 +88,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let key = format!("{}.far_plane", shading.name());
         let mut scene = flat_rects(screen, 5, Vec2::new(0.5, 0.5));
         scene.draws.clear();
-        let (result, reference, _) = render(ctx, &scene, config, 3)?;
+        let ComparedFrame { result, reference, .. } = render_with_reference(ctx.gpu, &scene, config, 3)?;
         let (error, _) = measure_against(screen, &result, &reference, 0)?;
         ctx.metric(&key, error.inexact_pixels);
         check_finite(&key, &result, &mut problems);

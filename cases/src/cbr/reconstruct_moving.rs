@@ -8,10 +8,10 @@
 use std::collections::BTreeMap;
 
 use anyhow::Result;
-use fragkit::cbr::measure::{measure_against, read_hdr, read_sources, source_counts};
+use fragkit::cbr::measure::{measure_against, render_with_reference, source_counts};
 use fragkit::cbr::sampling::{CheckerboardPath, sampled_pixels};
-use fragkit::cbr::scene::{CheckerboardScene, Motion, textured_corridor};
-use fragkit::cbr::{Checkerboard, CheckerboardConfig, Detection, FullResolutionScene, PixelSource, Shading};
+use fragkit::cbr::scene::{Motion, textured_corridor};
+use fragkit::cbr::{CheckerboardConfig, Detection, PixelSource, Shading};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
 use glam::Vec2;
 
@@ -46,33 +46,6 @@ const SEQUENCES: [Sequence; 5] = [
     Sequence { motion: Motion::Strafe(0.2), min_psnr_db: 40.0 },
     Sequence { motion: Motion::Object(0.25), min_psnr_db: 45.0 },
 ];
-
-/// The last of `frames` frames: reconstruction, reference, sources, and whether the passes
-/// that ran are the ones its plan lists (nothing the scene does not need).
-struct LastFrame {
-    result: Vec<f32>,
-    reference: Vec<f32>,
-    sources: Vec<PixelSource>,
-    passes: Vec<String>,
-    planned: Vec<&'static str>,
-}
-
-fn last_frame(ctx: &mut Ctx, scene: &CheckerboardScene, config: CheckerboardConfig, frames: u32) -> Result<LastFrame> {
-    let mut checkerboard = Checkerboard::new(ctx.gpu, scene, config)?;
-    let mut passes = Vec::new();
-    for frame in 0..frames {
-        passes = checkerboard.render(ctx.gpu, frame)?.passes;
-    }
-    let mut fullres = FullResolutionScene::new(ctx.gpu, scene, config.screen)?;
-    fullres.render(ctx.gpu, frames - 1)?;
-    Ok(LastFrame {
-        result: read_hdr(ctx.gpu, &checkerboard.reconstruction.colour)?,
-        reference: read_hdr(ctx.gpu, fullres.output())?,
-        sources: read_sources(ctx.gpu, &checkerboard.reconstruction)?,
-        passes,
-        planned: checkerboard.plan().passes(),
-    })
-}
 
 /// The sources the CPU mapping predicts for a uniform integer pan: a pixel frame N did not
 /// sample came from `pixel − pan` in frame N−1, which either sampled it (history), is one of
@@ -114,7 +87,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let mut psnr = BTreeMap::new();
         for detection in [Detection::DEFAULT_CSO, Detection::Aso] {
             let config = CheckerboardConfig { detection, ..CheckerboardConfig::new(screen, path, shading) };
-            let frame = last_frame(ctx, &scene, config, frames)?;
+            let frame = render_with_reference(ctx.gpu, &scene, config, frames)?;
             let (error, evidence) = measure_against(screen, &frame.result, &frame.reference, 8)?;
             let counts = source_counts(&frame.sources);
             let key = format!("{name}.{}", detection.name());

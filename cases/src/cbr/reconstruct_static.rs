@@ -8,11 +8,11 @@
 //! whitepaper's −0.5 bias against full resolution.
 
 use anyhow::Result;
-use fragkit::cbr::measure::{measure_against, read_hdr, read_sources, source_counts};
+use fragkit::cbr::measure::{measure_against, render_with_reference, source_counts};
 use fragkit::cbr::sampling::{CheckerboardPath, documented_gaps};
-use fragkit::cbr::scene::{CheckerboardScene, Motion, flat_rects, textured_corridor};
+use fragkit::cbr::scene::{Motion, flat_rects, textured_corridor};
 use fragkit::cbr::scene_pass::TextureLod;
-use fragkit::cbr::{Checkerboard, CheckerboardConfig, FullResolutionScene, Shading};
+use fragkit::cbr::{CheckerboardConfig, Shading};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
 use glam::Vec2;
 
@@ -39,26 +39,6 @@ const MIN_PSNR_DB: f64 = 45.0;
 const MAX_DIFFERING_SHARE: f64 = 0.005;
 const DISPLAY_TOLERANCE: u8 = 8;
 
-/// Renders frames 0 and 1 checkerboarded and at full resolution; frame 1's two images and
-/// sources.
-pub fn second_frame(
-    ctx: &mut Ctx,
-    scene: &CheckerboardScene,
-    config: CheckerboardConfig,
-) -> Result<(Vec<f32>, Vec<f32>, Vec<fragkit::cbr::PixelSource>)> {
-    let mut checkerboard = Checkerboard::new(ctx.gpu, scene, config)?;
-    let mut fullres = FullResolutionScene::new(ctx.gpu, scene, config.screen)?;
-    for frame in 0..2 {
-        checkerboard.render(ctx.gpu, frame)?;
-    }
-    fullres.render(ctx.gpu, 1)?;
-    Ok((
-        read_hdr(ctx.gpu, &checkerboard.reconstruction.colour)?,
-        read_hdr(ctx.gpu, fullres.output())?,
-        read_sources(ctx.gpu, &checkerboard.reconstruction)?,
-    ))
-}
-
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let path = CheckerboardPath::for_adapter(ctx.gpu);
     ctx.metric("path", path.name());
@@ -68,9 +48,9 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         for screen in ctx.params.sizes("sizes")? {
             let key = format!("{}.flat.{}x{}", shading.name(), screen.0, screen.1);
             let scene = flat_rects(screen, 3, Vec2::ZERO);
-            let (result, reference, sources) =
-                second_frame(ctx, &scene, CheckerboardConfig::new(screen, path, shading))?;
-            let (error, evidence) = measure_against(screen, &result, &reference, 0)?;
+            let frame = render_with_reference(ctx.gpu, &scene, CheckerboardConfig::new(screen, path, shading), 2)?;
+            let (error, evidence) = measure_against(screen, &frame.result, &frame.reference, 0)?;
+            let sources = frame.sources;
             let counts = source_counts(&sources);
             let filled: u64 = sources.iter().filter(|s| s.is_filled()).count() as u64;
             ctx.metric(&key, serde_json::json!({"inexact_pixels": error.inexact_pixels, "sources": counts}));
@@ -90,8 +70,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let screen = ctx.params.sizes("corridor_size")?[0];
         let key = format!("{}.corridor.{}x{}", shading.name(), screen.0, screen.1);
         let scene = textured_corridor(5, lights, Motion::Static);
-        let (result, reference, _) = second_frame(ctx, &scene, CheckerboardConfig::new(screen, path, shading))?;
-        let (error, evidence) = measure_against(screen, &result, &reference, DISPLAY_TOLERANCE)?;
+        let frame = render_with_reference(ctx.gpu, &scene, CheckerboardConfig::new(screen, path, shading), 2)?;
+        let (error, evidence) = measure_against(screen, &frame.result, &frame.reference, DISPLAY_TOLERANCE)?;
         let share = error.differing_pixels as f64 / error.compared_pixels as f64;
         ctx.metric(
             &key,
@@ -101,8 +81,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         // the whitepaper's −0.5 bias, which blurs the textured floor and walls.
         let biased =
             CheckerboardConfig { lod: TextureLod::Bias(-0.5), ..CheckerboardConfig::new(screen, path, shading) };
-        let (biased_result, _, _) = second_frame(ctx, &scene, biased)?;
-        let (biased_error, _) = measure_against(screen, &biased_result, &reference, DISPLAY_TOLERANCE)?;
+        let biased_frame = render_with_reference(ctx.gpu, &scene, biased, 2)?;
+        let (biased_error, _) = measure_against(screen, &biased_frame.result, &frame.reference, DISPLAY_TOLERANCE)?;
         ctx.metric(&format!("{key}.lod_bias_-0.5_psnr_db"), biased_error.psnr_db);
         if biased_error.psnr_db >= error.psnr_db {
             problems.push(format!(

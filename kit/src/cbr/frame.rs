@@ -94,8 +94,15 @@ pub struct FramePasses {
     resources: SceneResources,
     scratch: Scratch,
     shade: Option<wgpu::RenderPipeline>,
-    unpack_colour: Option<wgpu::RenderPipeline>,
-    unpack_depth: Option<wgpu::RenderPipeline>,
+    /// The 2x path's copies into the sample layout.
+    unpack: Option<Unpack>,
+}
+
+/// The unpack passes' pipelines (colour-like targets, depth) and their layout uniform.
+struct Unpack {
+    colour: wgpu::RenderPipeline,
+    depth: wgpu::RenderPipeline,
+    layout: wgpu::Buffer,
 }
 
 fn view(texture: &wgpu::Texture) -> wgpu::TextureView {
@@ -133,10 +140,7 @@ impl FramePasses {
             };
             fullscreen("shade samples", file, entry, &[Some(HDR.into())], None)
         });
-        let unpack_colour = msaa.then(|| {
-            fullscreen("unpack colour", shaders::CBR_UNPACK_SAMPLES, "fs_unpack_colour", &[Some(HDR.into())], None)
-        });
-        let unpack_depth = msaa.then(|| {
+        let unpack = msaa.then(|| {
             let depth = wgpu::DepthStencilState {
                 format: DEPTH,
                 depth_write_enabled: Some(true),
@@ -144,19 +148,20 @@ impl FramePasses {
                 stencil: Default::default(),
                 bias: Default::default(),
             };
-            fullscreen("unpack depth", shaders::CBR_UNPACK_SAMPLES, "fs_unpack_depth", &[], Some(depth))
+            let (qw, _) = quarter_size(screen);
+            Unpack {
+                colour: fullscreen(
+                    "unpack colour",
+                    shaders::CBR_UNPACK_SAMPLES,
+                    "fs_unpack_colour",
+                    &[Some(HDR.into())],
+                    None,
+                ),
+                depth: fullscreen("unpack depth", shaders::CBR_UNPACK_SAMPLES, "fs_unpack_depth", &[], Some(depth)),
+                layout: crate::fullscreen::uniform_buffer(gpu, "sample layout", bytemuck::cast_slice(&[qw, 0, 0, 0])),
+            }
         });
-        Ok(Self {
-            scratch: Scratch::new(gpu, screen, &plan),
-            plan,
-            screen,
-            lod,
-            pipelines,
-            resources,
-            shade,
-            unpack_colour,
-            unpack_depth,
-        })
+        Ok(Self { scratch: Scratch::new(gpu, screen, &plan), plan, screen, lod, pipelines, resources, shade, unpack })
     }
 
     /// Targets for one frame of this plan.
@@ -174,12 +179,8 @@ impl FramePasses {
         phase: u32,
         frame: &CheckerboardFrame,
     ) {
-        let msaa = self.plan.path == CheckerboardPath::Msaa2x;
-        // One view per pass of the frame: the 2x target's, or each offset pass's.
-        let offsets: Vec<[f32; 2]> =
-            if msaa { vec![[0.0, 0.0]] } else { (0..2).map(|s| offset_for_sample(s, &sample_positions())).collect() };
-        for (slot, offset) in offsets.iter().enumerate() {
-            let clip = quarter_projection(self.screen, phase, *offset) * view.full_from_world;
+        for (slot, offset) in self.view_offsets().into_iter().enumerate() {
+            let clip = quarter_projection(self.screen, phase, offset) * view.full_from_world;
             self.resources.write_view(gpu, slot, clip, view, self.screen, self.lod);
         }
         self.resources.write_objects(gpu, view);
@@ -188,66 +189,42 @@ impl FramePasses {
         match self.plan.shading {
             Shading::Forward => {
                 let colour = self.scratch.msaa_colour.as_ref().map_or_else(|| self::view(&frame.colour), self::view);
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("scene forward"),
-                    color_attachments: &[attachments::colour(&colour, None, BACKGROUND)],
-                    depth_stencil_attachment: depth_attachment(&depth_view, true),
-                    timestamp_writes: timer.pass("scene forward"),
-                    ..Default::default()
-                });
-                for slot in 0..offsets.len() {
-                    self.set_sample_viewport(&mut pass, slot, msaa);
-                    self.resources.draw(&mut pass, &self.pipelines, ScenePassKind::Forward, DrawSet::Opaque, slot);
-                    if self.plan.transparents {
-                        self.resources.draw(
-                            &mut pass,
-                            &self.pipelines,
-                            ScenePassKind::Forward,
-                            DrawSet::Transparent,
-                            slot,
-                        );
-                    }
-                }
+                let sets: &[DrawSet] =
+                    if self.plan.transparents { &[DrawSet::Opaque, DrawSet::Transparent] } else { &[DrawSet::Opaque] };
+                self.scene_pass(
+                    encoder,
+                    timer,
+                    "scene forward",
+                    &[attachments::colour(&colour, None, BACKGROUND)],
+                    (&depth_view, true),
+                    ScenePassKind::Forward,
+                    sets,
+                );
             }
             Shading::Deferred => {
                 let gbuffer =
                     self.scratch.gbuffer.as_ref().expect("deferred plans have a G-buffer").each_ref().map(self::view);
-                {
-                    let clear = wgpu::Color::TRANSPARENT;
-                    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some("gbuffer"),
-                        color_attachments: &[
-                            attachments::colour(&gbuffer[0], None, clear),
-                            attachments::colour(&gbuffer[1], None, clear),
-                        ],
-                        depth_stencil_attachment: depth_attachment(&depth_view, true),
-                        timestamp_writes: timer.pass("gbuffer"),
-                        ..Default::default()
-                    });
-                    for slot in 0..offsets.len() {
-                        self.set_sample_viewport(&mut pass, slot, msaa);
-                        self.resources.draw(&mut pass, &self.pipelines, ScenePassKind::Gbuffer, DrawSet::Opaque, slot);
-                    }
-                }
+                let clear = wgpu::Color::TRANSPARENT;
+                self.scene_pass(
+                    encoder,
+                    timer,
+                    "gbuffer",
+                    &[attachments::colour(&gbuffer[0], None, clear), attachments::colour(&gbuffer[1], None, clear)],
+                    (&depth_view, true),
+                    ScenePassKind::Gbuffer,
+                    &[DrawSet::Opaque],
+                );
                 if let Some(forward) = &frame.forward {
                     let target = self.scratch.msaa_forward.as_ref().map_or_else(|| self::view(forward), self::view);
-                    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some("forward buffer"),
-                        color_attachments: &[attachments::colour(&target, None, wgpu::Color::TRANSPARENT)],
-                        depth_stencil_attachment: depth_attachment(&depth_view, false),
-                        timestamp_writes: timer.pass("forward buffer"),
-                        ..Default::default()
-                    });
-                    for slot in 0..offsets.len() {
-                        self.set_sample_viewport(&mut pass, slot, msaa);
-                        self.resources.draw(
-                            &mut pass,
-                            &self.pipelines,
-                            ScenePassKind::Forward,
-                            DrawSet::Transparent,
-                            slot,
-                        );
-                    }
+                    self.scene_pass(
+                        encoder,
+                        timer,
+                        "forward buffer",
+                        &[attachments::colour(&target, None, clear)],
+                        (&depth_view, false),
+                        ScenePassKind::Forward,
+                        &[DrawSet::Transparent],
+                    );
                 }
                 if let (Some(forward), Some(samples)) = (&frame.forward, &self.scratch.msaa_forward) {
                     self.unpack(gpu, encoder, timer, "unpack forward buffer", samples, forward);
@@ -284,19 +261,15 @@ impl FramePasses {
         }
         if let Some(motion) = &frame.motion {
             let target = self.scratch.msaa_motion.as_ref().map_or_else(|| self::view(motion), self::view);
-            {
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("object motion"),
-                    color_attachments: &[attachments::colour(&target, None, wgpu::Color::TRANSPARENT)],
-                    depth_stencil_attachment: depth_attachment(&depth_view, false),
-                    timestamp_writes: timer.pass("object motion"),
-                    ..Default::default()
-                });
-                for slot in 0..offsets.len() {
-                    self.set_sample_viewport(&mut pass, slot, msaa);
-                    self.resources.draw(&mut pass, &self.pipelines, ScenePassKind::Forward, DrawSet::Moving, slot);
-                }
-            }
+            self.scene_pass(
+                encoder,
+                timer,
+                "object motion",
+                &[attachments::colour(&target, None, wgpu::Color::TRANSPARENT)],
+                (&depth_view, false),
+                ScenePassKind::Forward,
+                &[DrawSet::Moving],
+            );
             if let Some(samples) = &self.scratch.msaa_motion {
                 self.unpack(gpu, encoder, timer, "unpack motion", samples, motion);
             }
@@ -306,15 +279,47 @@ impl FramePasses {
         }
     }
 
-    /// The offset path draws sample s into the layout's s-th half; the 2x path has one view.
-    fn set_sample_viewport(&self, pass: &mut wgpu::RenderPass<'_>, slot: usize, msaa: bool) {
-        if msaa {
-            return;
+    /// The projection offset of each view of a frame: the 2x target's one, or each offset pass's.
+    fn view_offsets(&self) -> Vec<[f32; 2]> {
+        match self.plan.path {
+            CheckerboardPath::Msaa2x => vec![[0.0, 0.0]],
+            CheckerboardPath::OffsetPasses => (0..2).map(|s| offset_for_sample(s, &sample_positions())).collect(),
         }
+    }
+
+    /// One pass of the scene through every view of the frame, drawing `sets` in order: the 2x
+    /// target's one view, or each offset pass into its half of the sample layout. `depth` is
+    /// cleared and written, or (`false`) only tested.
+    #[allow(clippy::too_many_arguments)]
+    fn scene_pass(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut GpuTimer,
+        label: &str,
+        colours: &[Option<wgpu::RenderPassColorAttachment<'_>>],
+        depth: (&wgpu::TextureView, bool),
+        kind: ScenePassKind,
+        sets: &[DrawSet],
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: colours,
+            depth_stencil_attachment: depth_attachment(depth.0, depth.1),
+            timestamp_writes: timer.pass(label),
+            ..Default::default()
+        });
+        let views = self.view_offsets().len();
         let (qw, qh) = quarter_size(self.screen);
-        let x = slot as u32 * qw;
-        pass.set_viewport(x as f32, 0.0, qw as f32, qh as f32, 0.0, 1.0);
-        pass.set_scissor_rect(x, 0, qw, qh);
+        for view in 0..views {
+            if views > 1 {
+                let x = view as u32 * qw;
+                pass.set_viewport(x as f32, 0.0, qw as f32, qh as f32, 0.0, 1.0);
+                pass.set_scissor_rect(x, 0, qw, qh);
+            }
+            for set in sets {
+                self.resources.draw(&mut pass, &self.pipelines, kind, *set, view);
+            }
+        }
     }
 
     /// Copies each sample of a 2x target into the sample layout (`target`).
@@ -327,11 +332,9 @@ impl FramePasses {
         samples: &wgpu::Texture,
         target: &wgpu::Texture,
     ) {
-        let (qw, _) = quarter_size(self.screen);
-        let uniform = crate::fullscreen::uniform_buffer(gpu, "sample layout", bytemuck::cast_slice(&[qw, 0, 0, 0]));
+        let unpack = self.unpack.as_ref().expect("2x plans unpack");
         let depth = samples.format() == DEPTH;
-        let pipeline = if depth { &self.unpack_depth } else { &self.unpack_colour };
-        let pipeline = pipeline.as_ref().expect("2x plans unpack");
+        let pipeline = if depth { &unpack.depth } else { &unpack.colour };
         let source = self::view(samples);
         let binding = if depth { 2 } else { 1 };
         let group = crate::fullscreen::bind_group_at(
@@ -339,7 +342,7 @@ impl FramePasses {
             label,
             pipeline,
             0,
-            &[(0, uniform.as_entire_binding()), (binding, wgpu::BindingResource::TextureView(&source))],
+            &[(0, unpack.layout.as_entire_binding()), (binding, wgpu::BindingResource::TextureView(&source))],
         );
         let target_view = self::view(target);
         let colour = [attachments::colour(&target_view, None, wgpu::Color::TRANSPARENT)];

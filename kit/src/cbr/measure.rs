@@ -9,7 +9,9 @@ use image::RgbaImage;
 use serde::Serialize;
 
 use super::reconstruct::{PixelSource, Reconstruction};
+use super::renderer::{Checkerboard, CheckerboardConfig, FullResolutionScene};
 use super::sampling::documented_gaps;
+use super::scene::CheckerboardScene;
 use crate::gpu::Gpu;
 use crate::image_compare::{compare, flip_mean, side_by_side};
 use crate::readback::read_texture;
@@ -18,6 +20,40 @@ use crate::tonemap::to_display;
 /// An HDR target's texels as f32 RGBA.
 pub fn read_hdr(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Vec<f32>> {
     Ok(read_texture(gpu, texture, wgpu::TextureAspect::All, 0)?.as_f16())
+}
+
+/// The last of a run of frames, checkerboarded and at full resolution, read back.
+pub struct ComparedFrame {
+    /// HDR RGBA of the reconstruction and of the full-resolution render.
+    pub result: Vec<f32>,
+    pub reference: Vec<f32>,
+    pub sources: Vec<PixelSource>,
+    /// The passes the last frame ran, and the ones its plan lists.
+    pub passes: Vec<String>,
+    pub planned: Vec<&'static str>,
+}
+
+/// Renders frames 0..`frames` of `scene` checkerboarded, and the last one at full resolution.
+pub fn render_with_reference(
+    gpu: &Gpu,
+    scene: &CheckerboardScene,
+    config: CheckerboardConfig,
+    frames: u32,
+) -> Result<ComparedFrame> {
+    let mut checkerboard = Checkerboard::new(gpu, scene, config)?;
+    let mut passes = Vec::new();
+    for frame in 0..frames.max(1) {
+        passes = checkerboard.render(gpu, frame)?.passes;
+    }
+    let mut fullres = FullResolutionScene::new(gpu, scene, config.screen)?;
+    fullres.render(gpu, frames.max(1) - 1)?;
+    Ok(ComparedFrame {
+        result: read_hdr(gpu, &checkerboard.reconstruction.colour)?,
+        reference: read_hdr(gpu, fullres.output())?,
+        sources: read_sources(gpu, &checkerboard.reconstruction)?,
+        passes,
+        planned: checkerboard.plan().passes(),
+    })
 }
 
 #[derive(Clone, Debug, Serialize)]

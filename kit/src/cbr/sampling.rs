@@ -82,39 +82,30 @@ pub fn sample_pixel(q: (u32, u32), sample: usize, phase: u32, positions: &[[f32;
     (x.floor() as i64, y.floor() as i64)
 }
 
+/// The on-screen full-resolution pixels jitter phase `phase` samples, one item per sample.
+fn phase_samples(screen: (u32, u32), phase: u32, positions: [[f32; 2]; 2]) -> impl Iterator<Item = (u32, u32)> {
+    let (qw, qh) = quarter_size(screen);
+    (0..qh)
+        .flat_map(move |qy| (0..qw).flat_map(move |qx| (0..2).map(move |sample| ((qx, qy), sample))))
+        .map(move |(q, sample)| sample_pixel(q, sample, phase, &positions))
+        .filter(move |(x, y)| (0..i64::from(screen.0)).contains(x) && (0..i64::from(screen.1)).contains(y))
+        .map(|(x, y)| (x as u32, y as u32))
+}
+
 /// For each full-resolution pixel, how many samples of the two phases land on it.
 pub fn coverage_counts(screen: (u32, u32), positions: &[[f32; 2]; 2]) -> Vec<u32> {
-    let (qw, qh) = quarter_size(screen);
     let mut counts = vec![0u32; (screen.0 * screen.1) as usize];
-    for phase in 0..2 {
-        for qy in 0..qh {
-            for qx in 0..qw {
-                for sample in 0..2 {
-                    let (x, y) = sample_pixel((qx, qy), sample, phase, positions);
-                    if (0..i64::from(screen.0)).contains(&x) && (0..i64::from(screen.1)).contains(&y) {
-                        counts[(y as u32 * screen.0 + x as u32) as usize] += 1;
-                    }
-                }
-            }
-        }
+    for (x, y) in (0..2).flat_map(|phase| phase_samples(screen, phase, *positions)) {
+        counts[(y * screen.0 + x) as usize] += 1;
     }
     counts
 }
 
 /// Per full-resolution pixel (row-major), whether jitter phase `phase` samples it.
 pub fn sampled_pixels(screen: (u32, u32), phase: u32) -> Vec<bool> {
-    let positions = sample_positions();
-    let (qw, qh) = quarter_size(screen);
     let mut sampled = vec![false; (screen.0 * screen.1) as usize];
-    for qy in 0..qh {
-        for qx in 0..qw {
-            for sample in 0..2 {
-                let (x, y) = sample_pixel((qx, qy), sample, phase, &positions);
-                if (0..i64::from(screen.0)).contains(&x) && (0..i64::from(screen.1)).contains(&y) {
-                    sampled[(y as u32 * screen.0 + x as u32) as usize] = true;
-                }
-            }
-        }
+    for (x, y) in phase_samples(screen, phase, sample_positions()) {
+        sampled[(y * screen.0 + x) as usize] = true;
     }
     sampled
 }
