@@ -43,7 +43,6 @@ shader_files! {
     CPS_LOD_CONTENT => "cps/lod_content.wgsl",
     CPS_LOD_PRESENT => "cps/lod_present.wgsl",
     CPS_MASK_REDUCE => "cps/mask_reduce.wgsl",
-    CPS_STENCIL_MARK => "cps/stencil_mark.wgsl",
     CPS_LIGHTING => "cps/lighting.wgsl",
     CPS_FILL_PULL => "cps/fill_pull.wgsl",
     CPS_FILL_PUSH => "cps/fill_push.wgsl",

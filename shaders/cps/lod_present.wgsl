@@ -1,7 +1,8 @@
-// Stencil pyramid, step 1: the "LOD-present" bitmask of each pixel, 1 << lod (lod clamped to the
+// Stencil pyramid, level 0: the "LOD-present" bitmask of each pixel, 1 << lod (lod clamped to the
 // plan's top level), written to mip 0 of the mask pyramid. Where the plan skips absent levels on
 // the GPU, each pixel also sets its level's indirect instance count to 1, so a level no pixel
-// uses is drawn with zero instances, without a read-back.
+// uses is drawn with zero instances, without a read-back. A second draw in the same pass marks
+// level 0's stencil (op Replace) at the pixels whose LOD is 0 and discards the others.
 
 struct LodRange {
     max_level: u32,
@@ -18,18 +19,25 @@ struct DrawIndirect {
 @group(0) @binding(1) var lod: texture_2d<u32>;
 @group(1) @binding(0) var<storage, read_write> level_draws: array<DrawIndirect, 9>;
 
-fn present_bit(position: vec4f) -> u32 {
+fn present_level(position: vec4f) -> u32 {
     return min(textureLoad(lod, vec2u(position.xy), 0).x, range.max_level);
 }
 
 @fragment
 fn fs_lod_present(@builtin(position) position: vec4f) -> @location(0) u32 {
-    return 1u << present_bit(position);
+    return 1u << present_level(position);
 }
 
 @fragment
 fn fs_lod_present_and_count(@builtin(position) position: vec4f) -> @location(0) u32 {
-    let level = present_bit(position);
+    let level = present_level(position);
     level_draws[level].instance_count = 1u;
     return 1u << level;
+}
+
+@fragment
+fn fs_stencil_mark_level_0(@builtin(position) position: vec4f) {
+    if present_level(position) != 0u {
+        discard;
+    }
 }

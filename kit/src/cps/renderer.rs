@@ -1,7 +1,8 @@
-//! The CPS frame: LOD buffer → LOD-present mask pyramid → stencil pyramid → per-level lighting
-//! behind stencil Equal → (fill pyramid) → composite. Targets and pipelines are made once per
-//! renderer; `render` records one frame in one encoder with a timestamp pair around every pass
-//! and an occlusion query around every level's lighting draw.
+//! The CPS frame: LOD buffer → LOD-present mask pyramid and stencil pyramid (one pass a level:
+//! the mask draw, then the stencil mark) → per-level lighting behind stencil Equal → (fill
+//! pyramid) → composite. Targets and pipelines are made once per renderer; `render` records one
+//! frame in one encoder with a timestamp pair around every pass and an occlusion query around
+//! every level's lighting draw.
 
 use anyhow::{Context, Result};
 use glam::Vec3;
@@ -106,10 +107,12 @@ pub struct CpsRenderer {
     level_draws: wgpu::Buffer,
     level_uniforms: Vec<wgpu::Buffer>,
     lod_pipeline: Option<wgpu::RenderPipeline>,
-    edge_pipeline: Option<wgpu::RenderPipeline>,
-    reduce_pipeline: wgpu::RenderPipeline,
+    /// Edge detection and the edge pyramid's reduction (content policy only).
+    edge_pipelines: Option<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
     present_pipeline: wgpu::RenderPipeline,
-    mark_pipeline: wgpu::RenderPipeline,
+    mask_reduce_pipeline: wgpu::RenderPipeline,
+    /// Stencil marks of level 0 (from the LOD) and of coarser levels (from the finer mask).
+    mark_pipelines: Option<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
     light_pipeline: wgpu::RenderPipeline,
     fill_pipelines: Option<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
     composite_pipeline: wgpu::RenderPipeline,
@@ -139,17 +142,45 @@ impl CpsRenderer {
             }
             .create(gpu)
         };
-        let (lod_pipeline, edge_pipeline) = match &config.policy {
+        let (lod_pipeline, edge_pipelines) = match &config.policy {
             LodPolicy::Foveated { .. } => {
                 (Some(fullscreen("foveated lod", shaders::CPS_LOD_FOVEATED, "fs_lod_foveated", Some(LOD), None)), None)
             }
             LodPolicy::Content { .. } => (
                 Some(fullscreen("content lod", shaders::CPS_LOD_CONTENT, "fs_lod_content", Some(LOD), None)),
-                Some(fullscreen("edge mask", shaders::CPS_EDGE_MASK, "fs_edge_mask", Some(MASK), None)),
+                Some((
+                    fullscreen("edge mask", shaders::CPS_EDGE_MASK, "fs_edge_mask", Some(MASK), None),
+                    fullscreen("edge reduce", shaders::CPS_MASK_REDUCE, "fs_mask_reduce", Some(MASK), None),
+                )),
             ),
             LodPolicy::Explicit(_) => (None, None),
         };
+        // The pyramid passes carry the level's stencil when there is one; the mask draws leave it.
+        let pyramid_stencil = |compare, op| plan.stencil_pyramid.then(|| stencil_state(STENCIL, compare, op));
+        let keep = || pyramid_stencil(wgpu::CompareFunction::Always, wgpu::StencilOperation::Keep);
         let present_entry = if plan.skip_absent_levels_on_gpu { "fs_lod_present_and_count" } else { "fs_lod_present" };
+        let mark_pipelines = plan.stencil_pyramid.then(|| {
+            let mark = |label, fragment, entry_point| {
+                FullscreenPipeline {
+                    label,
+                    fragment,
+                    entry_point,
+                    // The mark writes stencil only; the pass's mask is the mask draw's.
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: MASK,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::empty(),
+                    })],
+                    depth_stencil: pyramid_stencil(wgpu::CompareFunction::Always, wgpu::StencilOperation::Replace),
+                    samples: 1,
+                }
+                .create(gpu)
+            };
+            (
+                mark("stencil mark level 0", shaders::CPS_LOD_PRESENT, "fs_stencil_mark_level_0"),
+                mark("stencil mark", shaders::CPS_MASK_REDUCE, "fs_stencil_mark"),
+            )
+        });
         let fill_pipelines = plan.fill_pyramid.then(|| {
             (
                 fullscreen("fill pull", shaders::CPS_FILL_PULL, "fs_fill_pull", Some(HDR), None),
@@ -176,16 +207,16 @@ impl CpsRenderer {
                 .map(|level| uniform_buffer(gpu, "level", bytemuck::cast_slice(&[level, 0, 0, 0])))
                 .collect(),
             lod_pipeline,
-            edge_pipeline,
-            reduce_pipeline: fullscreen("mask reduce", shaders::CPS_MASK_REDUCE, "fs_mask_reduce", Some(MASK), None),
-            present_pipeline: fullscreen("lod present", shaders::CPS_LOD_PRESENT, present_entry, Some(MASK), None),
-            mark_pipeline: fullscreen(
-                "stencil mark",
-                shaders::CPS_STENCIL_MARK,
-                "fs_stencil_mark",
-                None,
-                Some(stencil_state(STENCIL, wgpu::CompareFunction::Always, wgpu::StencilOperation::Replace)),
+            edge_pipelines,
+            present_pipeline: fullscreen("lod present", shaders::CPS_LOD_PRESENT, present_entry, Some(MASK), keep()),
+            mask_reduce_pipeline: fullscreen(
+                "mask reduce",
+                shaders::CPS_MASK_REDUCE,
+                "fs_mask_reduce",
+                Some(MASK),
+                keep(),
             ),
+            mark_pipelines,
             light_pipeline: fullscreen(
                 "light level",
                 shaders::CPS_LIGHTING,
@@ -245,30 +276,30 @@ impl CpsRenderer {
         Ok(CpsOutput { shaded_texels, pass_times: timer.read(gpu)? })
     }
 
-    /// Reduces `chain` from mip 1 to the top: texel q ORs its 2×2 children.
-    fn record_reduce(
+    /// Reduces the edge pyramid from mip 1 to the top: texel q ORs its 2×2 children.
+    fn record_edge_reduce(
         &self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
-        chain: &MipChain,
-        name: &str,
+        edges: &MipChain,
+        reduce: &wgpu::RenderPipeline,
         timer: &mut GpuTimer,
     ) {
         for level in 1..self.plan.levels() as usize {
             let group = bind_group(
                 gpu,
-                name,
-                &self.reduce_pipeline,
+                "edges",
+                reduce,
                 0,
-                &[wgpu::BindingResource::TextureView(&chain.level_views[level - 1])],
+                &[wgpu::BindingResource::TextureView(&edges.level_views[level - 1])],
             );
             let targets = PassTargets {
-                colour: Some(&chain.level_views[level]),
+                colour: Some(&edges.level_views[level]),
                 stencil: None,
                 viewport: self.plan.level_extents[level],
             };
-            let mut pass = begin(encoder, &format!("{name} {level}"), targets, timer, None);
-            pass.set_pipeline(&self.reduce_pipeline);
+            let mut pass = begin(encoder, &format!("edges {level}"), targets, timer, None);
+            pass.set_pipeline(reduce);
             pass.set_bind_group(0, &group, &[]);
             pass.draw(0..3, 0..1);
         }
@@ -294,8 +325,8 @@ impl CpsRenderer {
                 pass.draw(0..3, 0..1);
             }
             (LodPolicy::Content { normal_cos, depth_ratio }, Some(pipeline)) => {
-                let (edges, edge_pipeline) =
-                    (self.edges.as_ref().expect("planned"), self.edge_pipeline.as_ref().expect("planned"));
+                let (edges, (edge_pipeline, edge_reduce)) =
+                    (self.edges.as_ref().expect("planned"), self.edge_pipelines.as_ref().expect("planned"));
                 let words = [frame.eye.x, frame.eye.y, frame.eye.z, *normal_cos, *depth_ratio, 0.0, 0.0, 0.0];
                 let thresholds = uniform_buffer(gpu, "edge thresholds", bytemuck::cast_slice(&words));
                 let [position, normal, _] = &frame.gbuffer.views;
@@ -317,7 +348,7 @@ impl CpsRenderer {
                     pass.set_bind_group(0, &group, &[]);
                     pass.draw(0..3, 0..1);
                 }
-                self.record_reduce(gpu, encoder, edges, "edges", timer);
+                self.record_edge_reduce(gpu, encoder, edges, edge_reduce, timer);
                 let uniform = uniform_buffer(gpu, "content lod", bytemuck::cast_slice(&[top, 0, 0, 0]));
                 let group = bind_group(
                     gpu,
@@ -336,49 +367,47 @@ impl CpsRenderer {
         }
     }
 
+    /// One pass a level: the LOD-present mask (level 0 from the LOD, coarser ones ORing the
+    /// finer mask), then, in the same pass, the level's stencil mark.
     fn record_stencil_pyramid(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
         let range = uniform_buffer(gpu, "lod range", bytemuck::cast_slice(&[self.plan.top_level, 0, 0, 0]));
-        let group = bind_group(
-            gpu,
-            "lod present",
-            &self.present_pipeline,
-            0,
-            &[range.as_entire_binding(), wgpu::BindingResource::TextureView(&self.lod_view)],
-        );
+        let from_lod = [range.as_entire_binding(), wgpu::BindingResource::TextureView(&self.lod_view)];
         let counts = self.plan.skip_absent_levels_on_gpu.then(|| {
             bind_group(gpu, "level draws", &self.present_pipeline, 1, &[self.level_draws.as_entire_binding()])
         });
-        {
-            let targets =
-                PassTargets { colour: Some(&self.mask.level_views[0]), stencil: None, viewport: self.plan.screen };
-            let mut pass = begin(encoder, "mask 0", targets, timer, None);
-            pass.set_pipeline(&self.present_pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            if let Some(counts) = &counts {
-                pass.set_bind_group(1, counts, &[]);
-            }
-            pass.draw(0..3, 0..1);
-        }
-        self.record_reduce(gpu, encoder, &self.mask, "mask", timer);
-        let Some(stencil) = &self.stencil else { return };
         for level in 0..self.plan.levels() as usize {
-            let group = bind_group(
-                gpu,
-                "stencil mark",
-                &self.mark_pipeline,
-                0,
-                &[
-                    self.level_uniforms[level].as_entire_binding(),
-                    wgpu::BindingResource::TextureView(&self.mask.level_views[level]),
-                ],
-            );
+            let finer = (level > 0).then(|| wgpu::BindingResource::TextureView(&self.mask.level_views[level - 1]));
             let targets = PassTargets {
-                colour: None,
-                stencil: Some((&stencil.level_views[level], wgpu::LoadOp::Clear(0))),
+                colour: Some(&self.mask.level_views[level]),
+                stencil: self.stencil.as_ref().map(|stencil| (&stencil.level_views[level], wgpu::LoadOp::Clear(0))),
                 viewport: self.plan.level_extents[level],
             };
-            let mut pass = begin(encoder, &format!("stencil {level}"), targets, timer, None);
-            pass.set_pipeline(&self.mark_pipeline);
+            let mut pass = begin(encoder, &format!("pyramid {level}"), targets, timer, None);
+            match &finer {
+                None => {
+                    pass.set_pipeline(&self.present_pipeline);
+                    pass.set_bind_group(0, &bind_group(gpu, "lod present", &self.present_pipeline, 0, &from_lod), &[]);
+                    if let Some(counts) = &counts {
+                        pass.set_bind_group(1, counts, &[]);
+                    }
+                }
+                Some(finer) => {
+                    let group =
+                        bind_group(gpu, "mask reduce", &self.mask_reduce_pipeline, 0, std::slice::from_ref(finer));
+                    pass.set_pipeline(&self.mask_reduce_pipeline);
+                    pass.set_bind_group(0, &group, &[]);
+                }
+            }
+            pass.draw(0..3, 0..1);
+            let Some((mark_level_0, mark)) = &self.mark_pipelines else { continue };
+            let (pipeline, group) = match finer {
+                None => (mark_level_0, bind_group(gpu, "stencil mark", mark_level_0, 0, &from_lod)),
+                Some(finer) => {
+                    let resources = [finer, self.level_uniforms[level].as_entire_binding()];
+                    (mark, bind_group(gpu, "stencil mark", mark, 0, &resources))
+                }
+            };
+            pass.set_pipeline(pipeline);
             pass.set_stencil_reference(1);
             pass.set_bind_group(0, &group, &[]);
             pass.draw(0..3, 0..1);

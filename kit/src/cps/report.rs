@@ -89,7 +89,7 @@ fn measure_cps(
     for _ in 0..sweep.repeats.max(1) {
         let output = renderer.render(gpu, &frame)?;
         times.push(output.gpu_ms(""));
-        pyramid_times.push(output.gpu_ms("mask") + output.gpu_ms("stencil"));
+        pyramid_times.push(output.gpu_ms("pyramid"));
         shaded = output.shaded_texels.iter().sum();
     }
     let hdr = renderer.read_image(gpu)?;
