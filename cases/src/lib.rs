@@ -22,6 +22,7 @@ pub const ALL: &[Case] = &[
     kit::scissor_msaa::CASE,
     kit::early_rejection::CASE,
     kit::determinism::CASE,
+    kit::mip_fetch::CASE,
     cps::stencil_equal_counts::CASE,
     cps::all_fine_equals_fullres::CASE,
     cps::composite_matches_reference::CASE,

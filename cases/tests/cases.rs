@@ -65,6 +65,7 @@ case_tests! {
     kit_scissor_msaa => "kit.scissor.msaa",
     kit_early_rejection => "kit.early_rejection",
     kit_determinism => "kit.determinism",
+    kit_fetch_per_pixel_level => "kit.fetch.per_pixel_level",
     cps_stencil_equal_counts => "cps.stencil_equal.counts",
     cps_all_fine_equals_fullres => "cps.all_fine_equals_fullres",
     cps_composite_matches_reference => "cps.composite.matches_reference",

@@ -36,6 +36,7 @@ shader_files! {
     HEAVY_SHADING => "kit/heavy_shading.wgsl",
     FRAGMENT_COUNTER => "kit/fragment_counter.wgsl",
     NOISE_TRIANGLES => "kit/noise_triangles.wgsl",
+    MIP_FETCH => "kit/mip_fetch.wgsl",
     GBUFFER => "deferred/gbuffer.wgsl",
     DEFERRED_LIGHTING => "deferred/lighting.wgsl",
     CPS_LOD_FOVEATED => "cps/lod_foveated.wgsl",

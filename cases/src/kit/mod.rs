@@ -2,6 +2,7 @@
 
 pub mod determinism;
 pub mod early_rejection;
+pub mod mip_fetch;
 pub mod msaa_sample_positions;
 pub mod occlusion_exact;
 pub mod sample_mask;
