@@ -22,15 +22,7 @@ fn level_of(pixel: vec2i) -> u32 {
 fn coarse_colour(pixel: vec2i) -> vec4f {
     let clamped = vec2u(clamp(pixel, vec2i(0), vec2i(composite.screen) - 1));
     let level = level_of(pixel);
-    // The mip level is a loop counter, the same in every lane: llvmpipe's GL path fetches every
-    // lane of a SIMD vector from one lane's level when the level varies per pixel.
-    var colour = vec4f(0.0);
-    for (var l = 0u; l <= composite.max_level; l++) {
-        if l == level {
-            colour = textureLoad(lit, clamped >> vec2u(l), i32(l));
-        }
-    }
-    return colour;
+    return textureLoad(lit, clamped >> vec2u(level), i32(level));
 }
 
 // The pixel just outside the coarse fragment holding `pixel`, along `axis` (0 = x, 1 = y), on the

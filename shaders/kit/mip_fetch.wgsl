@@ -1,8 +1,8 @@
 // Fetches from a mipmapped texture at a level chosen per pixel (read from a level map): mip l
 // texel t holds (1 << 31) | (l << 24) | (t.y << 12) | t.x, so the value says which level and
 // texel a fetch really read (0: none). Two ways: the level straight from the map (it varies
-// across a SIMD vector), and the level as a loop counter (uniform in every lane; the form the
-// CPS composite uses).
+// across a SIMD vector, as in the CPS composite), and the level as a loop counter (uniform in
+// every lane).
 
 struct Levels {
     count: u32,
