@@ -4,13 +4,8 @@
 // across a SIMD vector, as in the CPS composite), and the level as a loop counter (uniform in
 // every lane).
 
-struct Levels {
-    count: u32,
-}
-
-@group(0) @binding(0) var<uniform> levels: Levels;
-@group(0) @binding(1) var level_map: texture_2d<u32>;
-@group(0) @binding(2) var source: texture_2d<u32>;
+@group(0) @binding(0) var level_map: texture_2d<u32>;
+@group(0) @binding(1) var source: texture_2d<u32>;
 
 @fragment
 fn fs_fetch_varying_level(@builtin(position) position: vec4f) -> @location(0) u32 {
@@ -24,7 +19,7 @@ fn fs_fetch_uniform_level(@builtin(position) position: vec4f) -> @location(0) u3
     let p = vec2u(position.xy);
     let level = textureLoad(level_map, p, 0).x;
     var value = 0u;
-    for (var l = 0u; l < levels.count; l++) {
+    for (var l = 0u; l < textureNumLevels(source); l++) {
         if l == level {
             value = textureLoad(source, p >> vec2u(l), i32(l)).x;
         }

@@ -6,7 +6,8 @@
 //! counter (uniform across lanes).
 
 use anyhow::{Context, Result, ensure};
-use fragkit::fullscreen::{FullscreenPipeline, bind_group, uniform_buffer};
+use fragkit::cps::targets::MipChain;
+use fragkit::fullscreen::{FullscreenPipeline, bind_group};
 use fragkit::gpu::Gpu;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
 use fragkit::image_compare::side_by_side;
@@ -52,24 +53,16 @@ fn describe(value: u32) -> String {
     }
 }
 
-/// A texture whose mip l holds `texel_value(l, t)` at every texel t.
-fn labelled_mips(gpu: &Gpu, size: (u32, u32), levels: u32) -> wgpu::Texture {
-    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("labelled mips"),
-        size: wgpu::Extent3d { width: size.0, height: size.1, depth_or_array_layers: 1 },
-        mip_level_count: levels,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: FORMAT,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
+/// A mip chain whose mip l holds `texel_value(l, t)` at every texel t.
+fn labelled_mips(gpu: &Gpu, size: (u32, u32), levels: u32) -> MipChain {
+    let usage = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
+    let chain = MipChain::new(gpu, "labelled mips", size, levels, FORMAT, usage);
     for level in 0..levels {
         let (w, h) = ((size.0 >> level).max(1), (size.1 >> level).max(1));
         let values: Vec<u32> = (0..h).flat_map(|y| (0..w).map(move |x| texel_value(level, (x, y)))).collect();
         gpu.queue.write_texture(
             wgpu::TexelCopyTextureInfo {
-                texture: &texture,
+                texture: &chain.texture,
                 mip_level: level,
                 origin: wgpu::Origin3d::ZERO,
                 aspect: wgpu::TextureAspect::All,
@@ -79,16 +72,16 @@ fn labelled_mips(gpu: &Gpu, size: (u32, u32), levels: u32) -> wgpu::Texture {
             wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
         );
     }
-    texture
+    chain
 }
 
-/// One fetch pass per pixel of `levels` (row-major), read back.
+/// One fetch pass at the levels of `level_map` (row-major), read back.
 fn fetch(
     gpu: &Gpu,
-    source: &wgpu::Texture,
+    pipeline: &wgpu::RenderPipeline,
+    source: &MipChain,
     level_map: &[u32],
     size: (u32, u32),
-    entry_point: &str,
 ) -> Result<Vec<u32>> {
     let map =
         gpu.texture("level map", size, FORMAT, 1, wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST);
@@ -100,34 +93,9 @@ fn fetch(
     );
     let target =
         gpu.texture("fetched", size, FORMAT, 1, wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC);
-    let pipeline = FullscreenPipeline {
-        label: "mip fetch",
-        fragment: shaders::MIP_FETCH,
-        entry_point,
-        targets: &[Some(FORMAT.into())],
-        depth_stencil: None,
-        samples: 1,
-    }
-    .create(gpu);
-    let levels = uniform_buffer(gpu, "level count", bytemuck::cast_slice(&[source.mip_level_count(), 0, 0, 0]));
-    let (map_view, source_view) = (map.create_view(&Default::default()), source.create_view(&Default::default()));
-    let resources = [
-        levels.as_entire_binding(),
-        wgpu::BindingResource::TextureView(&map_view),
-        wgpu::BindingResource::TextureView(&source_view),
-    ];
-    // The varying entry point leaves the level count unused, so its layout has no binding 0.
-    let group = if entry_point == "fs_fetch_varying_level" {
-        fragkit::fullscreen::bind_group_at(
-            gpu,
-            "mip fetch",
-            &pipeline,
-            0,
-            &[(1, resources[1].clone()), (2, resources[2].clone())],
-        )
-    } else {
-        bind_group(gpu, "mip fetch", &pipeline, 0, &resources)
-    };
+    let map_view = map.create_view(&Default::default());
+    let resources = [wgpu::BindingResource::TextureView(&map_view), wgpu::BindingResource::TextureView(&source.all)];
+    let group = bind_group(gpu, "mip fetch", pipeline, 0, &resources);
     let view = target.create_view(&Default::default());
     let mut encoder = gpu.encoder("mip fetch");
     {
@@ -136,7 +104,7 @@ fn fetch(
             color_attachments: &[fragkit::attachments::colour(&view, None, wgpu::Color::TRANSPARENT)],
             ..Default::default()
         });
-        pass.set_pipeline(&pipeline);
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &group, &[]);
         pass.draw(0..3, 0..1);
     }
@@ -166,6 +134,18 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let seed = ctx.params.count("seed")? as u32;
     let levels = size.0.max(size.1).trailing_zeros() + 1;
     let source = labelled_mips(ctx.gpu, size, levels);
+    let pipelines = WAYS.map(|(way, entry_point)| {
+        let pipeline = FullscreenPipeline {
+            label: "mip fetch",
+            fragment: shaders::MIP_FETCH,
+            entry_point,
+            targets: &[Some(FORMAT.into())],
+            depth_stencil: None,
+            samples: 1,
+        }
+        .create(ctx.gpu);
+        (way, pipeline)
+    });
     ctx.metric("levels", levels);
 
     let mut problems = Vec::new();
@@ -183,9 +163,9 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             .enumerate()
             .map(|(i, &l)| texel_value(l, ((i as u32 % size.0) >> l, (i as u32 / size.0) >> l)))
             .collect();
-        for (way, entry_point) in WAYS {
+        for (way, pipeline) in &pipelines {
             // Render and measure.
-            let fetched = fetch(ctx.gpu, &source, &level_map, size, entry_point)?;
+            let fetched = fetch(ctx.gpu, pipeline, &source, &level_map, size)?;
             let wrong: Vec<usize> = (0..expected.len()).filter(|&i| fetched[i] != expected[i]).collect();
             let label = format!("{way}.{block}x{block}");
             ctx.metric(&format!("{label}.wrong_fetches"), wrong.len());
