@@ -1,5 +1,6 @@
 //! `fragkit`: list adapters, measure capabilities, list and run the conformance cases.
 
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -11,6 +12,7 @@ use fragkit::harness::expectations::{BUILT_IN, Expectations};
 use fragkit::harness::params::parse_overrides;
 use fragkit::harness::report::Report;
 use fragkit::harness::runner::{check_overrides, check_sizes, is_opt_in, run_case, select};
+use fragkit::harness::{Case, sweep};
 
 #[derive(Parser)]
 #[command(name = "fragkit", version, about = "Deterministic, compute-free GPU conformance kit")]
@@ -62,6 +64,14 @@ enum Command {
         /// Known-issues file (default: the one built in, cases/expectations.toml).
         #[arg(long)]
         expectations: Option<PathBuf>,
+        /// Run each case with N parameter sets drawn from its declared ranges (cases without
+        /// ranges run once at their defaults); `--set` pins a parameter. Failures print the
+        /// command that reproduces them.
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10_000))]
+        sweep: Option<u32>,
+        /// Seed of the sweep's draws.
+        #[arg(long, default_value_t = 1, requires = "sweep")]
+        seed: u64,
     },
 }
 
@@ -209,6 +219,7 @@ fn main() -> ExitCode {
 }
 
 fn run(cli: Cli) -> Result<ExitCode> {
+    fragkit::shaders::check_shader_dir()?;
     let selector = AdapterSelector { backend: cli.backend, adapter_name: cli.adapter };
     match cli.command {
         Command::Adapters => {
@@ -251,8 +262,9 @@ fn run(cli: Cli) -> Result<ExitCode> {
         }
         Command::Render { technique } => render(&selector, technique)?,
         Command::Report { technique } => report(&selector, technique)?,
-        Command::Check { patterns, sets, json, out, expectations } => {
-            return check(&selector, &patterns, &sets, json, out, expectations);
+        Command::Check { patterns, sets, json, out, expectations, sweep, seed } => {
+            let sweep = sweep.map(|runs| (runs, seed));
+            return check(&selector, &patterns, &sets, json, out, expectations, sweep);
         }
     }
     Ok(ExitCode::SUCCESS)
@@ -412,6 +424,7 @@ fn check(
     json: Option<PathBuf>,
     out: Option<PathBuf>,
     expectations: Option<PathBuf>,
+    sweep: Option<(u32, u64)>,
 ) -> Result<ExitCode> {
     // Check every input before touching the GPU.
     let cases = select(fragkit_cases::ALL, patterns)?;
@@ -431,17 +444,41 @@ fn check(
         std::fs::remove_file(&probe).ok();
     }
     let gpu = Gpu::open(selector)?;
-    check_sizes(&gpu, &cases, &overrides)?;
     let d = &gpu.description;
     println!("adapter: {} ({}, {} {})", d.name, d.backend, d.driver, d.driver_info);
 
-    let progress = indicatif::ProgressBar::new(cases.len() as u64);
+    // Each run: a case and its overrides (drawn from its ranges under --sweep, --set pinned).
+    let runs: Vec<(&Case, BTreeMap<String, String>)> = match sweep {
+        None => cases.iter().map(|&case| (case, overrides.clone())).collect(),
+        Some((count, seed)) => cases
+            .iter()
+            .flat_map(|&case| {
+                let draws = if case.sweep.is_empty() { 1 } else { count };
+                let overrides = &overrides;
+                (0..draws).map(move |index| {
+                    let mut drawn = sweep::draw(case, seed, index);
+                    drawn.extend(overrides.iter().map(|(k, v)| (k.clone(), v.clone())));
+                    drawn.retain(|key, _| case.params.iter().any(|p| p.name == key));
+                    (case, drawn)
+                })
+            })
+            .collect(),
+    };
+    for (case, drawn) in &runs {
+        check_sizes(&gpu, &[case], drawn)?;
+    }
+
+    let progress = indicatif::ProgressBar::new(runs.len() as u64);
     progress.set_style(indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").expect("static template"));
     let mut report = Report { adapter: gpu.description.clone(), cases: Vec::new() };
     let mut gpu = gpu;
-    for case in cases {
+    for (case, drawn) in runs {
         progress.set_message(case.name);
-        report.cases.push(run_case(&gpu, case, &overrides, &expectations, out.as_deref()));
+        let mut record = run_case(&gpu, case, &drawn, &expectations, out.as_deref());
+        if sweep.is_some() && record.outcome.is_failure() {
+            record.reason = format!("{} [reproduce: {}]", record.reason, sweep::reproduce_line(case, &drawn));
+        }
+        report.cases.push(record);
         progress.inc(1);
         if gpu.lost().is_some() {
             // The lost case is recorded as failed; the rest run on a fresh device.

@@ -7,7 +7,8 @@ mod support;
 use fragkit::harness::report::CaseRecord;
 
 /// Metrics that are timings: they vary run to run and stay out of snapshots.
-const TIMING_METRICS: &[&str] = &["equal_ms", "always_ms", "time_ratio", "level0_ms", "foveated_levels"];
+const TIMING_METRICS: &[&str] =
+    &["equal_ms", "always_ms", "time_ratio", "level0_ms", "foveated_levels", "probe_time_ratio"];
 
 fn check(name: &str) {
     let (record, slug) = support::run(name);
@@ -65,8 +66,11 @@ case_tests! {
     kit_scissor_msaa => "kit.scissor.msaa",
     kit_early_rejection => "kit.early_rejection",
     kit_determinism => "kit.determinism",
+    kit_deferred_lighting => "kit.deferred.lighting",
     kit_fetch_per_pixel_level => "kit.fetch.per_pixel_level",
+    cps_lod_policy => "cps.lod_policy",
     cps_stencil_equal_counts => "cps.stencil_equal.counts",
+    cps_level_lighting => "cps.level_lighting",
     cps_all_fine_equals_fullres => "cps.all_fine_equals_fullres",
     cps_composite_matches_reference => "cps.composite.matches_reference",
     cps_early_rejection => "cps.early_rejection",
@@ -76,6 +80,7 @@ case_tests! {
     oit_a2c_coverage_stats => "oit.a2c.coverage_stats",
     oit_order_independence => "oit.order_independence",
     oit_quads_converges => "oit.quads.converges",
+    oit_post_filter => "oit.post_filter",
     oit_extremes => "oit.extremes",
     cbr_sample_quadrants => "cbr.sample_quadrants",
     cbr_jitter_coverage => "cbr.jitter.coverage",

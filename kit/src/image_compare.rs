@@ -66,3 +66,12 @@ pub fn flip_mean(result: &RgbaImage, reference: &RgbaImage) -> Result<f32> {
     let error = nv_flip::flip(reference, test, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
     Ok(nv_flip::FlipPool::from_image(&error).mean())
 }
+
+/// An error mask from a per-pixel verdict: red where `wrong`, the reference dimmed elsewhere.
+pub fn error_mask(reference: &RgbaImage, wrong: &[bool]) -> RgbaImage {
+    let mut mask = reference.clone();
+    for (pixel, &bad) in mask.pixels_mut().zip(wrong) {
+        *pixel = if bad { Rgba([255, 0, 0, 255]) } else { Rgba([pixel[0] / 4, pixel[1] / 4, pixel[2] / 4, 255]) };
+    }
+    mask
+}

@@ -1,5 +1,11 @@
 //! The WGSL sources under `shaders/`. WGSL has no includes, so every pass file is compiled with
 //! the common snippets prepended; `tests/shaders.rs` validates each assembled module with naga.
+//!
+//! For mutation testing and shader development, `FRAGKIT_SHADER_DIR=<dir>` makes every module read
+//! its files from `<dir>/<path>` at run time instead of the copies built into the binary, so a
+//! changed shader needs no rebuild (`mutants/run`).
+
+use std::borrow::Cow;
 
 use crate::gpu::Gpu;
 
@@ -70,14 +76,48 @@ shader_files! {
     OIT_BILATERAL => "oit/bilateral.wgsl",
 }
 
+/// Environment variable naming a folder to read shaders from at run time (development only).
+pub const SHADER_DIR_ENV: &str = "FRAGKIT_SHADER_DIR";
+
+/// The text of shader file `path`: from `FRAGKIT_SHADER_DIR` when set, else the built-in copy.
+/// An override folder that lacks the file is a setup mistake worth stopping for, not a fallback.
+fn source_of(path: &str, built_in: &'static str) -> Cow<'static, str> {
+    match std::env::var_os(SHADER_DIR_ENV) {
+        None => Cow::Borrowed(built_in),
+        Some(dir) => {
+            let file = std::path::Path::new(&dir).join(path);
+            match std::fs::read_to_string(&file) {
+                Ok(text) => Cow::Owned(text),
+                Err(e) => panic!("{SHADER_DIR_ENV}: reading {}: {e}", file.display()),
+            }
+        }
+    }
+}
+
+/// Checks, before any case runs, that a `FRAGKIT_SHADER_DIR` override holds every shader file.
+pub fn check_shader_dir() -> anyhow::Result<()> {
+    let Some(dir) = std::env::var_os(SHADER_DIR_ENV) else {
+        return Ok(());
+    };
+    let dir = std::path::Path::new(&dir);
+    let paths = COMMON.iter().map(|(path, _)| *path).chain(ALL.iter().map(|file| file.path));
+    let missing: Vec<&str> = paths.filter(|path| !dir.join(path).is_file()).collect();
+    anyhow::ensure!(
+        missing.is_empty(),
+        "{SHADER_DIR_ENV}={} lacks shader files {missing:?}; copy the whole shaders/ folder there",
+        dir.display()
+    );
+    Ok(())
+}
+
 impl ShaderFile {
     /// The module source as compiled: common snippets, then the pass.
     pub fn assembled(&self) -> String {
         let mut source = String::new();
         for (path, common) in COMMON {
-            source.push_str(&format!("// ---- {path}\n{common}\n"));
+            source.push_str(&format!("// ---- {path}\n{}\n", source_of(path, common)));
         }
-        source.push_str(&format!("// ---- {}\n{}", self.path, self.source));
+        source.push_str(&format!("// ---- {}\n{}", self.path, source_of(self.path, self.source)));
         source
     }
 

@@ -18,6 +18,7 @@ pub const CASE: Case = Case {
     summary: "2x2 and odd screens, the first frame, motion past the screen, the far plane: exact, finite",
     requires: wgpu::Features::empty(),
     params: &[],
+    sweep: &[],
     run,
 };
 

@@ -18,6 +18,7 @@ pub const CASE: Case = Case {
         default: "2x2,7x5,33x17,64x48",
         help: "full-resolution sizes",
     }],
+    sweep: &[],
     run,
 };
 

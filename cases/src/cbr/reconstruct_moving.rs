@@ -29,6 +29,7 @@ pub const CASE: Case = Case {
             help: "frames rendered; the last is measured",
         },
     ],
+    sweep: &[],
     run,
 };
 

@@ -30,6 +30,7 @@ pub const CASE: Case = Case {
         ParamSpec { name: "corridor_size", kind: ParamKind::SizesFrom(2), default: "96x64", help: "lit corridor size" },
         ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "16", help: "corridor point lights" },
     ],
+    sweep: &[],
     run,
 };
 

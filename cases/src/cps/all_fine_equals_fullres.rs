@@ -20,6 +20,7 @@ pub const CASE: Case = Case {
         ParamSpec { name: "size", kind: ParamKind::Sizes, default: "96x64", help: "screen size" },
         ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "32", help: "point lights" },
     ],
+    sweep: &[],
     run,
 };
 

@@ -23,6 +23,7 @@ pub const CASE: Case = Case {
         ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "24", help: "point lights" },
         ParamSpec { name: "max_level", kind: ParamKind::CountIn(0, 8), default: "4", help: "coarsest level" },
     ],
+    sweep: &[],
     run,
 };
 

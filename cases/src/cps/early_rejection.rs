@@ -1,12 +1,14 @@
 //! `cps.early_rejection`: the stencil-Equal lighting draw of a level costs in proportion to the
 //! texels it shades: level 0 with 1/64 of the pixels needing it must cost far less than with all
 //! of them (early stencil rejection). Reports GPU time per shaded texel for each level of a
-//! foveated frame. Where the adapter shades rejected fragments anyway, that is a capability
-//! result (NotSupported), not a failure.
+//! foveated frame. When the ratio is too high, the kit's own capability probe decides: if it shows
+//! this adapter rejecting early, CPS lost a capability the adapter has (Fail); only if the probe
+//! shows no early rejection either is it NotSupported.
 
 use anyhow::Result;
 use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::probe::stencil_gated_draw::{REJECTION_RATIO_LIMIT, adapter_rejects_early};
 use fragkit::query::median;
 
 use super::{corridor_inputs, frame};
@@ -20,12 +22,9 @@ pub const CASE: Case = Case {
         ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "64", help: "point lights" },
         ParamSpec { name: "repeats", kind: ParamKind::CountIn(1, 1000), default: "3", help: "timed repeats (median)" },
     ],
+    sweep: &[],
     run,
 };
-
-/// Above this time ratio (1/64 of the pixels vs all of them) the adapter does not reject early:
-/// halfway between perfect rejection (≈ 0.016) and none (1).
-const REJECTION_RATIO_LIMIT: f64 = 0.5;
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let size = ctx.params.sizes("size")?[0];
@@ -69,12 +68,17 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         .collect();
     ctx.metric("foveated_levels", per_texel);
 
-    Ok(if ratio <= REJECTION_RATIO_LIMIT {
-        Outcome::Pass
-    } else {
-        Outcome::NotSupported(format!(
-            "early stencil rejection: level 0 with {:.1} % of the pixels cost {ratio:.2}x the full level",
-            fraction * 100.0
+    if ratio <= REJECTION_RATIO_LIMIT {
+        return Ok(Outcome::Pass);
+    }
+    let cps_says = format!("level 0 with {:.1} % of the pixels cost {ratio:.2}x the full level", fraction * 100.0);
+    let (adapter_rejects, probe_ratio) = adapter_rejects_early(ctx.gpu)?;
+    ctx.metric("probe_time_ratio", probe_ratio);
+    Ok(if adapter_rejects {
+        Outcome::Fail(format!(
+            "CPS loses early stencil rejection: {cps_says}, while the kit's probe shows this adapter rejecting early (ratio {probe_ratio:.2})"
         ))
+    } else {
+        Outcome::NotSupported(format!("early stencil rejection: {cps_says}; the kit's probe agrees (ratio {probe_ratio:.2})"))
     })
 }

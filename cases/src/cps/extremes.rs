@@ -20,6 +20,7 @@ pub const CASE: Case = Case {
     summary: "1x1 with 200 lights, level 8 past the screen, lights on surfaces: finite and exact",
     requires: wgpu::Features::empty(),
     params: &[],
+    sweep: &[],
     run,
 };
 

@@ -4,6 +4,8 @@ pub mod all_fine_equals_fullres;
 pub mod composite_matches_reference;
 pub mod early_rejection;
 pub mod extremes;
+pub mod level_lighting;
+pub mod lod_policy;
 pub mod stencil_equal_counts;
 
 use anyhow::Result;

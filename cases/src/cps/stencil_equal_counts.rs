@@ -8,7 +8,7 @@
 use anyhow::Result;
 use fragkit::cps::reference::{expected_shaded_texels, needed_texels};
 use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy, MAX_LEVEL};
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 
 use super::{corridor_inputs, frame, random_lod};
@@ -20,6 +20,10 @@ pub const CASE: Case = Case {
     params: &[
         ParamSpec { name: "sizes", kind: ParamKind::Sizes, default: "1x1,64x48,257x131", help: "screen sizes" },
         ParamSpec { name: "seed", kind: ParamKind::Count, default: "3", help: "scene and random-LOD seed" },
+    ],
+    sweep: &[
+        Sweep { param: "sizes", range: SweepRange::Size { min: (1, 1), max: (300, 200) } },
+        Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     run,
 };

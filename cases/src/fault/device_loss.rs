@@ -14,6 +14,7 @@ pub const CASE: Case = Case {
     summary: "the device destroyed mid-case: that case fails naming the loss, the run goes on (fails on purpose)",
     requires: wgpu::Features::empty(),
     params: &[],
+    sweep: &[],
     run,
 };
 

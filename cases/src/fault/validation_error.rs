@@ -10,6 +10,7 @@ pub const CASE: Case = Case {
     summary: "a wgpu validation error mid-case fails that case with its message (fails on purpose)",
     requires: wgpu::Features::empty(),
     params: &[],
+    sweep: &[],
     run,
 };
 

@@ -6,7 +6,7 @@ use anyhow::Result;
 use fragkit::attachments;
 use fragkit::fullscreen::{bind_group, uniform_buffer};
 use fragkit::gpu::Gpu;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::image_compare::{compare, side_by_side};
 use fragkit::readback::read_rgba8;
 use fragkit::scene::hash::SeededRng;
@@ -26,6 +26,11 @@ pub const CASE: Case = Case {
             help: "triangles in the scene",
         },
         ParamSpec { name: "seed", kind: ParamKind::Count, default: "7", help: "scene and noise seed" },
+    ],
+    sweep: &[
+        Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (256, 256) } },
+        Sweep { param: "triangles", range: SweepRange::Count(1, 2000) },
+        Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     run,
 };

@@ -6,8 +6,7 @@
 use anyhow::Result;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
-use fragkit::probe::stencil_gated_draw::{Gate, GatedDraw, StencilGatedDraw};
-use fragkit::query::median;
+use fragkit::probe::stencil_gated_draw::{REJECTION_RATIO_LIMIT, StencilGatedDraw};
 
 pub const CASE: Case = Case {
     name: "kit.early_rejection",
@@ -34,23 +33,15 @@ pub const CASE: Case = Case {
             help: "timed repeats (median taken)",
         },
     ],
+    sweep: &[],
     run,
 };
-
-/// Above this Equal/Always time ratio the adapter is judged to shade rejected fragments anyway:
-/// halfway between perfect rejection (the passing fraction, ≤ 0.02) and none (1.0).
-const REJECTION_RATIO_LIMIT: f64 = 0.5;
-
-/// GPU time where the adapter has timestamps, else the wall time of a submit-and-wait.
-fn time_ms(draw: &GatedDraw) -> f64 {
-    draw.gpu_ms.unwrap_or(draw.wall_ms)
-}
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let size = ctx.params.sizes("size")?[0];
     let passing = ctx.params.sizes("passing")?[0];
     let iterations = u32::try_from(ctx.params.count("iterations")?)?;
-    let repeats = ctx.params.count("repeats")?.max(1);
+    let repeats = ctx.params.count("repeats")?;
     let gpu = ctx.gpu;
     let precision = measure_occlusion_precision(gpu)?;
     let can_count = gpu.has(wgpu::Features::SHADER_EARLY_DEPTH_TEST)
@@ -59,21 +50,14 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
 
     // Render: one untimed round pays for shader compilation, then timed repeats of both gates.
     let draw = StencilGatedDraw::new(gpu, size, passing, iterations)?;
-    let warm_up = draw.draw(gpu, Gate::Equal)?;
-    draw.draw(gpu, Gate::Always)?;
-    let mut equal = Vec::new();
-    let mut always = Vec::new();
-    for _ in 0..repeats {
-        equal.push(time_ms(&draw.draw(gpu, Gate::Equal)?));
-        always.push(time_ms(&draw.draw(gpu, Gate::Always)?));
-    }
+    let times = draw.time(gpu, repeats)?;
+    let warm_up = times.first_equal;
     let counted_fragments = if can_count { Some(draw.count_fragments_with_atomic(gpu)?) } else { None };
 
     // Expected: exactly the marked square passes.
     let expected = u64::from(passing.0 * passing.1);
     let fraction = expected as f64 / f64::from(size.0 * size.1);
-    let (equal_ms, always_ms) = (median(equal), median(always));
-    let ratio = equal_ms / always_ms;
+    let (equal_ms, always_ms, ratio) = (times.equal_ms, times.always_ms, times.ratio());
     ctx.metric("passing_fraction", fraction);
     ctx.metric("equal_ms", equal_ms);
     ctx.metric("always_ms", always_ms);

@@ -29,6 +29,7 @@ pub const CASE: Case = Case {
         },
         ParamSpec { name: "seed", kind: ParamKind::Count, default: "1", help: "seed of the level maps" },
     ],
+    sweep: &[],
     run,
 };
 

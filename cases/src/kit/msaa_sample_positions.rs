@@ -20,6 +20,7 @@ macro_rules! sample_positions_case {
             ),
             requires: wgpu::Features::empty(),
             params: &[],
+            sweep: &[],
             run: |ctx| sample_positions(ctx, $samples),
         };
     };

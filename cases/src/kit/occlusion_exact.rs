@@ -22,6 +22,7 @@ pub const CASE: Case = Case {
         ParamSpec { name: "rects", kind: ParamKind::Count, default: "24", help: "stencil rects per pattern" },
         ParamSpec { name: "seed", kind: ParamKind::Count, default: "1", help: "pattern seed" },
     ],
+    sweep: &[],
     run,
 };
 

@@ -12,6 +12,7 @@ pub const CASE: Case = Case {
     summary: "the pipeline sample mask limits which samples a draw writes",
     requires: wgpu::Features::empty(),
     params: &[],
+    sweep: &[],
     run,
 };
 

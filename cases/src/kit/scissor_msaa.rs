@@ -21,6 +21,7 @@ pub const CASE: Case = Case {
         ParamSpec { name: "scissor", kind: ParamKind::Counts, default: "8,8,20,10", help: "x,y,width,height" },
         ParamSpec { name: "sample_counts", kind: ParamKind::Counts, default: "1,4", help: "sample counts to test" },
     ],
+    sweep: &[],
     run,
 };
 

@@ -15,6 +15,7 @@ pub const CASE: Case = Case {
     summary: "alpha-to-coverage: monotonic, 0 → none, 1 → all, every count reachable; levels, masks, dithering",
     requires: wgpu::Features::empty(),
     params: &[],
+    sweep: &[],
     run,
 };
 

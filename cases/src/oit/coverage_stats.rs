@@ -33,6 +33,7 @@ pub const CASE: Case = Case {
             help: "frames (seeds) averaged",
         },
     ],
+    sweep: &[],
     run,
 };
 

@@ -22,6 +22,7 @@ pub const CASE: Case = Case {
     summary: "opacity 0/1 exact per pixel, tiny and near-1 opacities finite, 64 equal-depth layers exact",
     requires: wgpu::Features::empty(),
     params: &[],
+    sweep: &[],
     run,
 };
 

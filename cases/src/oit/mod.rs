@@ -4,6 +4,7 @@ pub mod a2c_transfer;
 pub mod coverage_stats;
 pub mod extremes;
 pub mod order_independence;
+pub mod post_filter;
 pub mod quads_converges;
 
 use fragkit::Gpu;

@@ -17,6 +17,7 @@ pub const CASE: Case = Case {
     summary: "every draw order of the paper's quads gives a bit-identical stochastic frame",
     requires: wgpu::Features::empty(),
     params: &[ParamSpec { name: "size", kind: ParamKind::Sizes, default: "48x48", help: "target size" }],
+    sweep: &[],
     run,
 };
 

@@ -25,6 +25,7 @@ pub const CASE: Case = Case {
     summary: "accumulated stochastic transparency converges to the exact composite like 1/sqrt(frames)",
     requires: wgpu::Features::empty(),
     params: &[ParamSpec { name: "size", kind: ParamKind::Sizes, default: "64x64", help: "target size" }],
+    sweep: &[],
     run,
 };
 

@@ -15,6 +15,7 @@ pub const CASE: Case = Case {
     summary: "checkerboarding over many frames and resizes: no memory growth, last frame reproducible",
     requires: wgpu::Features::empty(),
     params: PARAMS,
+    sweep: &[],
     run,
 };
 

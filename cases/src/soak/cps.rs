@@ -19,6 +19,7 @@ pub const CASE: Case = Case {
     summary: "coarse pixel shading over many frames and resizes: no memory growth, last frame reproducible",
     requires: wgpu::Features::empty(),
     params: PARAMS,
+    sweep: &[],
     run,
 };
 

@@ -20,6 +20,7 @@ pub const CASE: Case = Case {
     summary: "stochastic transparency over many frames and resizes: no memory growth, last frame reproducible",
     requires: wgpu::Features::empty(),
     params: PARAMS,
+    sweep: &[],
     run,
 };
 

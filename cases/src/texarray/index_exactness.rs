@@ -17,6 +17,7 @@ pub const CASE: Case = Case {
         default: "4096x4097",
         help: "array texture size (4096x4097 holds 2^24 + 4096 elements)",
     }],
+    sweep: &[],
     run,
 };
 

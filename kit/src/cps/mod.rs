@@ -4,6 +4,7 @@
 //! 4-neighbour interpolation, or our seam-free reconstruction).
 
 pub mod config;
+pub mod lod_model;
 pub mod pictures;
 pub mod plan;
 pub mod reference;

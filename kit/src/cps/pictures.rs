@@ -6,7 +6,7 @@ use image::{Rgba, RgbaImage};
 
 use super::renderer::CpsRenderer;
 use crate::gpu::Gpu;
-use crate::readback::{read_stencil, read_texture};
+use crate::readback::{map_buffer, read_stencil, read_texture};
 use crate::tonemap::to_display;
 
 /// A distinct colour per level, fine (blue) to coarse (red).
@@ -41,6 +41,23 @@ impl CpsRenderer {
     /// The composite, RGBA f32 per pixel.
     pub fn read_image(&self, gpu: &Gpu) -> Result<Vec<f32>> {
         Ok(read_texture(gpu, &self.image, wgpu::TextureAspect::All, 0)?.as_f16())
+    }
+
+    /// The instance count of each level's indirect lighting draw (levels 0..=top), as the frame
+    /// left them: 0 for a level the GPU found absent where the plan skips absent levels.
+    pub fn read_level_instance_counts(&self, gpu: &Gpu) -> Result<Vec<u32>> {
+        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("level draws read-back"),
+            size: self.level_draws.size(),
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let mut encoder = gpu.encoder("level draws read-back");
+        encoder.copy_buffer_to_buffer(&self.level_draws, 0, &staging, 0, self.level_draws.size());
+        gpu.submit(encoder);
+        let bytes = map_buffer(gpu, &staging)?;
+        let words: Vec<u32> = bytes.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])).collect();
+        Ok(words.chunks_exact(4).take(self.plan.levels() as usize).map(|draw| draw[1]).collect())
     }
 
     /// Level `level`'s stencil (data region only): 1 where the level shades.

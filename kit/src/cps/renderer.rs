@@ -104,7 +104,7 @@ pub struct CpsRenderer {
     /// The composite (`Rgba16Float`, screen-sized).
     pub image: wgpu::Texture,
     /// Indirect draw arguments of each level's lighting draw.
-    level_draws: wgpu::Buffer,
+    pub(crate) level_draws: wgpu::Buffer,
     level_uniforms: Vec<wgpu::Buffer>,
     lod_pipeline: Option<wgpu::RenderPipeline>,
     /// Edge detection and the edge pyramid's reduction (content policy only).
@@ -190,7 +190,10 @@ impl CpsRenderer {
         let level_draws = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("level draws"),
             size: 16 * 9,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::INDIRECT
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
         Ok(Self {

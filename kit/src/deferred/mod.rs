@@ -4,6 +4,7 @@
 pub mod gbuffer;
 pub mod lighting;
 pub mod lights;
+pub mod phong;
 
 use anyhow::Result;
 use glam::Vec3;

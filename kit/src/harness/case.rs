@@ -7,6 +7,7 @@ use anyhow::{Context, Result};
 use serde::Serialize;
 
 use super::params::{ParamSpec, Params};
+use super::sweep::Sweep;
 use crate::gpu::Gpu;
 
 /// What a case concluded.
@@ -27,6 +28,8 @@ pub struct Case {
     /// Device features without which the case is NotSupported.
     pub requires: wgpu::Features,
     pub params: &'static [ParamSpec],
+    /// The ranges a sweep may draw parameters from (empty: the case runs at its defaults only).
+    pub sweep: &'static [Sweep],
     pub run: fn(&mut Ctx) -> Result<Outcome>,
 }
 

@@ -6,6 +6,8 @@ pub mod expectations;
 pub mod params;
 pub mod report;
 pub mod runner;
+pub mod sweep;
 
 pub use case::{Case, Ctx, Outcome};
 pub use params::{ParamKind, ParamSpec};
+pub use sweep::{Sweep, SweepRange};

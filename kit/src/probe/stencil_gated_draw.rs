@@ -11,12 +11,38 @@ use wgpu::util::DeviceExt;
 use crate::attachments;
 use crate::fullscreen::{FullscreenPipeline, bind_group, uniform_buffer};
 use crate::gpu::Gpu;
-use crate::query::{GpuTimer, OcclusionQueries};
+use crate::query::{GpuTimer, OcclusionQueries, median};
 use crate::readback::map_buffer;
 use crate::rects::{Rect, RectBatch, RectPipeline, stencil_replace, stencil_state};
 use crate::shaders;
 
 const STENCIL: wgpu::TextureFormat = wgpu::TextureFormat::Depth24PlusStencil8;
+
+/// Above this Equal/Always time ratio the adapter shades rejected fragments anyway: halfway
+/// between perfect rejection (the passing fraction, ≤ 0.02 at the probe's defaults) and none (1).
+pub const REJECTION_RATIO_LIMIT: f64 = 0.5;
+
+/// Equal and Always GPU times (medians) and their ratio.
+#[derive(Clone, Copy, Debug)]
+pub struct GateTimes {
+    pub equal_ms: f64,
+    pub always_ms: f64,
+    /// The first Equal draw's measurements (its occlusion count).
+    pub first_equal: GatedDraw,
+}
+
+impl GateTimes {
+    pub fn ratio(&self) -> f64 {
+        self.equal_ms / self.always_ms
+    }
+}
+
+/// The kit's capability probe at `kit.early_rejection`'s defaults (256×256, a 36×36 square,
+/// 96 iterations, 3 repeats): whether this adapter skips stencil-rejected fragments, and the ratio.
+pub fn adapter_rejects_early(gpu: &Gpu) -> Result<(bool, f64)> {
+    let ratio = StencilGatedDraw::new(gpu, (256, 256), (36, 36), 96)?.time(gpu, 3)?.ratio();
+    Ok((ratio <= REJECTION_RATIO_LIMIT, ratio))
+}
 const COLOUR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 /// Which stencil test gates the heavy draw.
@@ -134,6 +160,20 @@ impl StencilGatedDraw {
         let wall_ms = started.elapsed().as_secs_f64() * 1e3;
         let gpu_ms = timer.read(gpu)?.first().map(|t| t.ms);
         Ok(GatedDraw { gpu_ms, wall_ms, passing_samples: queries.read(gpu)?[0] })
+    }
+
+    /// One untimed round of both gates (shader compilation), then `repeats` timed rounds; GPU
+    /// time where the adapter has timestamps, else the wall time of a submit-and-wait.
+    pub fn time(&self, gpu: &Gpu, repeats: u64) -> Result<GateTimes> {
+        let first_equal = self.draw(gpu, Gate::Equal)?;
+        self.draw(gpu, Gate::Always)?;
+        let time_ms = |draw: GatedDraw| draw.gpu_ms.unwrap_or(draw.wall_ms);
+        let (mut equal, mut always) = (Vec::new(), Vec::new());
+        for _ in 0..repeats.max(1) {
+            equal.push(time_ms(self.draw(gpu, Gate::Equal)?));
+            always.push(time_ms(self.draw(gpu, Gate::Always)?));
+        }
+        Ok(GateTimes { equal_ms: median(equal), always_ms: median(always), first_equal })
     }
 
     /// Counts the fragments behind the Equal gate with an atomic under forced early tests

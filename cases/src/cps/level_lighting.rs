@@ -1,0 +1,85 @@
+//! `cps.level_lighting`: every texel a level shades holds the CPU Phong (`fragkit::deferred::phong`)
+//! of the G-buffer sample at the centre pixel of its 2^l block (clamped to the screen), under the
+//! scene's own lights, within the derived f32/f16 bound; and each level's indirect draw has zero
+//! instances exactly where the LOD input holds no pixel of that level (where the plan skips
+//! absent levels on the GPU; one instance for every level otherwise). The LOD is a seeded input
+//! (random per pixel, and one with whole levels absent), so the expectation owes nothing to the
+//! GPU's LOD pass.
+
+use anyhow::Result;
+use fragkit::cps::reference::expected_shaded_texels;
+use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy};
+use fragkit::deferred::DeferredInputs;
+use fragkit::deferred::phong::{read_surfaces, shade};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::scene::corridor::corridor;
+
+use super::{frame, random_lod};
+
+pub const CASE: Case = Case {
+    name: "cps.level_lighting",
+    summary: "each lit coarse texel is the CPU Phong of its block's centre pixel; absent levels draw nothing",
+    requires: wgpu::Features::empty(),
+    params: &[
+        ParamSpec { name: "sizes", kind: ParamKind::SizesFrom(1), default: "1x1,61x37", help: "screen sizes" },
+        ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "32", help: "point lights" },
+        ParamSpec { name: "seed", kind: ParamKind::CountIn(0, 1 << 20), default: "5", help: "scene and LOD seed" },
+    ],
+    sweep: &[
+        Sweep { param: "sizes", range: SweepRange::Size { min: (1, 1), max: (160, 120) } },
+        Sweep { param: "lights", range: SweepRange::Count(1, 1024) },
+        Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
+    ],
+    run,
+};
+
+fn run(ctx: &mut Ctx) -> Result<Outcome> {
+    let seed = u32::try_from(ctx.params.count("seed")?)?;
+    let scene = corridor(seed, u32::try_from(ctx.params.count("lights")?)?);
+    let mut problems = Vec::new();
+    for size in ctx.params.sizes("sizes")? {
+        let inputs = DeferredInputs::new(ctx.gpu, &scene, size)?;
+        let surfaces = read_surfaces(ctx.gpu, &inputs.gbuffer)?;
+        // Random levels everywhere, and levels 1 and 3 only (0, 2 and 4.. absent).
+        let sparse: Vec<u8> = random_lod(size, seed + 1).iter().map(|l| if l % 2 == 0 { 1 } else { 3 }).collect();
+        for (name, lod) in [("random", random_lod(size, seed)), ("levels_1_3", sparse)] {
+            let renderer = CpsRenderer::new(ctx.gpu, size, CpsConfig::new(8, LodPolicy::Explicit(lod.clone()), CompositeMode::Nearest))?;
+            renderer.render(ctx.gpu, &frame(&inputs))?;
+            let top = renderer.plan.top_level;
+            let key = format!("{}x{}.{name}", size.0, size.1);
+
+            // Each shaded texel against the Phong of its block's centre pixel.
+            let (mut checked, mut wrong, mut worst) = (0usize, 0usize, 0.0f64);
+            for level in 0..=top {
+                let (w, _) = renderer.plan.level_extents[level as usize];
+                let lit = renderer.read_lit_level(ctx.gpu, level)?;
+                let block = 1u32 << level;
+                for (i, texel) in lit.chunks_exact(4).enumerate().filter(|(_, t)| t[3] == 1.0) {
+                    let (qx, qy) = (i as u32 % w, i as u32 / w);
+                    let (x, y) = ((qx * block + block / 2).min(size.0 - 1), (qy * block + block / 2).min(size.1 - 1));
+                    let expected = shade(&surfaces[(y * size.0 + x) as usize], scene.camera.eye, &scene.lights);
+                    checked += 1;
+                    worst = worst.max(expected.error_in_bounds(texel));
+                    wrong += usize::from(!expected.admits(texel));
+                }
+            }
+            ctx.metric(&format!("{key}.texels"), serde_json::json!({"checked": checked, "beyond_bound": wrong, "worst_error_in_bounds": worst}));
+            if wrong > 0 {
+                problems.push(format!("{key}: {wrong} of {checked} lit texels differ from the Phong of their block's centre pixel (worst {worst:.1}x the bound)"));
+            }
+
+            // Indirect instance counts: zero exactly for the levels the input leaves absent.
+            let shaded = expected_shaded_texels(size, &lod, top);
+            let expected_instances: Vec<u32> = shaded
+                .iter()
+                .map(|&texels| u32::from(!renderer.plan.skip_absent_levels_on_gpu || texels > 0))
+                .collect();
+            let instances = renderer.read_level_instance_counts(ctx.gpu)?;
+            ctx.metric(&format!("{key}.instances"), serde_json::json!({"measured": instances, "expected": expected_instances, "skips_absent_levels": renderer.plan.skip_absent_levels_on_gpu}));
+            if instances != expected_instances {
+                problems.push(format!("{key}: level draw instances {instances:?}, expected {expected_instances:?}"));
+            }
+        }
+    }
+    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+}

@@ -1,0 +1,51 @@
+//! The property test: every case that declares parameter ranges runs with a few parameter sets
+//! drawn from them under a fixed seed (more with `fragkit check --sweep N --seed S`), and none may
+//! end in an unexpected failure; each failure names the command that reproduces it.
+
+mod support;
+
+use fragkit::harness::params::Params;
+use fragkit::harness::runner::run_case;
+use fragkit::harness::sweep::{draw, reproduce_line};
+
+/// Sets per case: enough to leave the defaults on every run, few enough for the suite's budget.
+const DRAWS: u32 = 2;
+const SEED: u64 = 20_261_201;
+
+#[test]
+fn every_declared_range_lies_inside_its_parameter() {
+    for case in fragkit_cases::ALL {
+        for sweep in case.sweep {
+            assert!(
+                case.params.iter().any(|p| p.name == sweep.param),
+                "{}: sweeps {:?}, which it does not declare",
+                case.name,
+                sweep.param
+            );
+        }
+        for index in 0..200 {
+            let drawn = draw(case, SEED, index);
+            if let Err(e) = Params::resolve(case.name, case.params, &drawn) {
+                panic!("{}: drawn set {drawn:?} is outside the parameters' own ranges: {e:#}", case.name);
+            }
+        }
+    }
+}
+
+#[test]
+fn drawn_parameter_sets_hold() {
+    let expectations = support::expectations();
+    let gpu = support::gpu().lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    let mut failures = Vec::new();
+    for case in fragkit_cases::ALL.iter().filter(|c| !c.sweep.is_empty()) {
+        for index in 0..DRAWS {
+            let drawn = draw(case, SEED, index);
+            let record = run_case(&gpu, case, &drawn, &expectations, None);
+            eprintln!("{:<14} {}", record.outcome.label(), reproduce_line(case, &drawn));
+            if record.outcome.is_failure() {
+                failures.push(format!("{}: {}\n  reproduce: {}", case.name, record.reason, reproduce_line(case, &drawn)));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{} drawn parameter sets failed:\n{}", failures.len(), failures.join("\n"));
+}

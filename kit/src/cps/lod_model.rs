@@ -1,0 +1,197 @@
+//! CPU models of the LOD policies' definitions (see [`LodPolicy`]), fed with the scene's inputs
+//! (screen, focus, radius; for the content policy the read-back G-buffer and the eye): the
+//! independent expectation of `shaders/cps/lod_foveated.wgsl` and of `edge_mask.wgsl` +
+//! `lod_content.wgsl`.
+//!
+//! A pixel whose level hangs on a comparison closer than the GPU's f32 arithmetic can decide is
+//! *ambiguous*: the models say so rather than guess, and the cases skip and count those pixels.
+
+use glam::DVec3;
+
+use super::config::LodPolicy;
+use crate::deferred::phong::Surface;
+
+/// log2's absolute error on the GPU is within 2^-21 (Vulkan's bound on 0.5..2, and relative 3 ulp
+/// elsewhere), the distance's relative error within 2^-21 moves log2 by 2^-21 / ln 2: a level
+/// boundary closer than 2^-19 in log2 may fall either way.
+const LOG2_AMBIGUITY: f64 = 1.0 / (1u64 << 19) as f64;
+
+/// A comparison of two f32 results whose difference is within 2^-20 of their magnitude may fall
+/// either way (a dot product or a distance of f32 inputs errs by a few 2^-24).
+const COMPARISON_AMBIGUITY: f64 = 1.0 / (1u64 << 20) as f64;
+
+/// The level of every pixel and whether it is ambiguous, row-major.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelledLod {
+    pub levels: Vec<u8>,
+    pub ambiguous: Vec<bool>,
+}
+
+/// Foveated: level = floor(log2(1 + distance / inner_radius)) at the pixel centre, capped at `top`;
+/// the focus is a fraction of the screen.
+pub fn foveated(screen: (u32, u32), focus: (f32, f32), inner_radius: f32, top: u32) -> ModelledLod {
+    let focus = (f64::from(focus.0 * screen.0 as f32), f64::from(focus.1 * screen.1 as f32));
+    let radius = f64::from(inner_radius).max(1e-3);
+    let (mut levels, mut ambiguous) = (Vec::new(), Vec::new());
+    for y in 0..screen.1 {
+        for x in 0..screen.0 {
+            let distance = (f64::from(x) + 0.5 - focus.0).hypot(f64::from(y) + 0.5 - focus.1);
+            let octaves = (1.0 + distance / radius).log2();
+            let boundary = octaves.round();
+            levels.push(octaves.floor().min(f64::from(top)) as u8);
+            ambiguous.push(boundary >= 1.0 && boundary <= f64::from(top) && (octaves - boundary).abs() <= LOG2_AMBIGUITY);
+        }
+    }
+    ModelledLod { levels, ambiguous }
+}
+
+/// Whether two samples lie across a geometric edge: `Some(answer)`, or `None` when a threshold
+/// comparison is too close to call.
+fn across_edge(a: &Surface, b: &Surface, eye: DVec3, normal_cos: f64, depth_ratio: f64) -> Option<bool> {
+    if a.position[3] != b.position[3] {
+        return Some(true);
+    }
+    if a.position[3] == 0.0 {
+        return Some(false);
+    }
+    let vec = |v: &[f32; 4]| DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]));
+    let (pa, pb) = (vec(&a.position), vec(&b.position));
+    let cosine = vec(&a.normal).dot(vec(&b.normal));
+    let jump = pa.distance(pb);
+    let allowed = depth_ratio * pa.distance(eye);
+    let normal_close = (cosine - normal_cos).abs() <= COMPARISON_AMBIGUITY * (1.0 + cosine.abs());
+    let depth_close = (jump - allowed).abs() <= COMPARISON_AMBIGUITY * (jump + allowed);
+    let normal_edge = cosine < normal_cos;
+    let depth_edge = jump > allowed;
+    // A decided edge on either test settles it; otherwise any close call leaves it open.
+    if (normal_edge && !normal_close) || (depth_edge && !depth_close) {
+        Some(true)
+    } else if normal_close || depth_close {
+        None
+    } else {
+        Some(false)
+    }
+}
+
+/// Content: a pixel is an edge where it differs from its right or lower neighbour (clamped at the
+/// screen's border); its level is the coarsest l ≤ `top` whose aligned 2^l block, and every finer
+/// block around it, holds no edge pixel (level 0 if its 2×2 block holds one).
+pub fn content(
+    screen: (u32, u32),
+    surfaces: &[Surface],
+    eye: glam::Vec3,
+    policy: (f32, f32),
+    top: u32,
+) -> ModelledLod {
+    let (w, h) = screen;
+    let (normal_cos, depth_ratio) = (f64::from(policy.0), f64::from(policy.1));
+    let eye = eye.as_dvec3();
+    let at = |x: u32, y: u32| &surfaces[(y * w + x) as usize];
+    // Edge per pixel: Some(true/false), None where undecidable.
+    let edges: Vec<Option<bool>> = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let here = at(x, y);
+            let right = across_edge(here, at((x + 1).min(w - 1), y), eye, normal_cos, depth_ratio);
+            let below = across_edge(here, at(x, (y + 1).min(h - 1)), eye, normal_cos, depth_ratio);
+            match (right, below) {
+                (Some(true), _) | (_, Some(true)) => Some(true),
+                (Some(false), Some(false)) => Some(false),
+                _ => None,
+            }
+        })
+        .collect();
+    // Per level l ≥ 1 and block: (holds a certain edge, holds an undecidable pixel).
+    let block_state = |level: u32| -> Vec<(bool, bool)> {
+        let (bw, bh) = (w.div_ceil(1 << level), h.div_ceil(1 << level));
+        let mut state = vec![(false, false); (bw * bh) as usize];
+        for y in 0..h {
+            for x in 0..w {
+                let cell = &mut state[((y >> level) * bw + (x >> level)) as usize];
+                match edges[(y * w + x) as usize] {
+                    Some(true) => cell.0 = true,
+                    None => cell.1 = true,
+                    Some(false) => {}
+                }
+            }
+        }
+        state
+    };
+    let states: Vec<Vec<(bool, bool)>> = (1..=top).map(block_state).collect();
+    let (mut levels, mut ambiguous) = (Vec::new(), Vec::new());
+    for y in 0..h {
+        for x in 0..w {
+            // The level if every undecidable pixel were an edge (low) or were not (high).
+            let (mut low, mut high) = (0u32, 0u32);
+            let mut low_open = true;
+            for level in 1..=top {
+                let bw = w.div_ceil(1 << level);
+                let (edge, open) = states[level as usize - 1][((y >> level) * bw + (x >> level)) as usize];
+                if edge {
+                    break;
+                }
+                if low_open && !open {
+                    low = level;
+                } else {
+                    low_open = false;
+                }
+                high = level;
+            }
+            levels.push(low as u8);
+            ambiguous.push(low != high);
+        }
+    }
+    ModelledLod { levels, ambiguous }
+}
+
+/// The model of `policy` where it has one (explicit policies are their own input).
+pub fn model(
+    policy: &LodPolicy,
+    screen: (u32, u32),
+    surfaces: &[Surface],
+    eye: glam::Vec3,
+    top: u32,
+) -> ModelledLod {
+    match policy {
+        LodPolicy::Foveated { focus, inner_radius } => foveated(screen, *focus, *inner_radius, top),
+        LodPolicy::Content { normal_cos, depth_ratio } => content(screen, surfaces, eye, (*normal_cos, *depth_ratio), top),
+        LodPolicy::Explicit(levels) => ModelledLod {
+            levels: levels.iter().map(|&l| l.min(top as u8)).collect(),
+            ambiguous: vec![false; levels.len()],
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn foveated_levels_double_with_distance() {
+        // 1 × 64 row, focus at x = 0, radius 4: level = floor(log2(1 + (x + 0.5) / 4)).
+        let lod = foveated((64, 1), (0.0, 0.5), 4.0, 8);
+        assert_eq!(lod.levels[0], 0);
+        assert_eq!(lod.levels[3], 0); // 1 + 3.5/4 < 2
+        assert_eq!(lod.levels[4], 1); // 1 + 4.5/4 ≥ 2
+        assert_eq!(lod.levels[12], 2); // 1 + 12.5/4 ≥ 4
+        assert!(lod.ambiguous.iter().all(|a| !a));
+    }
+
+    #[test]
+    fn foveated_boundaries_exactly_on_a_power_of_two_are_ambiguous() {
+        // Pixel centre x + 0.5 = 4 → 1 + 4/4 = 2 exactly.
+        let lod = foveated((8, 1), (0.0, 0.5), 3.5, 8);
+        assert!(lod.ambiguous[3]);
+    }
+
+    #[test]
+    fn content_level_is_the_coarsest_edge_free_block() {
+        // 4×1 screen: a coverage change between x = 1 and x = 2 makes pixel 1 an edge.
+        let empty = Surface { position: [0.0; 4], normal: [0.0; 4], albedo: [0.0; 4] };
+        let full = Surface { position: [0.0, 0.0, -1.0, 1.0], normal: [0.0, 0.0, 1.0, 1.0], albedo: [0.0; 4] };
+        let surfaces = [full, full, empty, empty];
+        let lod = content((4, 1), &surfaces, glam::Vec3::ZERO, (0.9, 0.05), 2);
+        // Level-1 blocks: {0,1} holds the edge; {2,3} does not, but level 2's {0..3} does.
+        assert_eq!(lod.levels, vec![0, 0, 1, 1]);
+    }
+}

@@ -1,0 +1,191 @@
+//! A CPU model of the deferred Phong shading's definition (`shade_sample` in
+//! `shaders/common/lighting.wgsl`), in f64, fed with read-back G-buffer samples and the scene's
+//! own light list: the independent expectation for every path that lights a G-buffer sample.
+//!
+//! Each pixel gets an error bound derived from the GPU's arithmetic rather than tuned:
+//! - every light's term, computed in f32 through ~20 operations, is off by at most 64 f32 ulps
+//!   (2^-18 relative), plus `pow`'s error (exp2 of log2 with log2 absolute error ≤ 2^-21, scaled
+//!   by the shininess) and the cancellation in `1 − (d/r)²` (absolute 2^-22, so 2^-21 / window
+//!   relative once the window is squared);
+//! - a decision the f32 arithmetic may take either way (a light at its range within 2^-20
+//!   relative, a back-facing test within 2^-20 of zero) adds that whole term to the bound;
+//! - summing N terms in f32 adds N · 2^-24 of their absolute sum;
+//! - the `Rgba16Float` store loses up to one f16 ulp of the value (11 significant bits): Vulkan
+//!   lets a conversion to a narrower float round to nearest or toward zero (lavapipe truncates).
+
+use anyhow::Result;
+use glam::DVec3;
+
+use super::gbuffer::Gbuffer;
+use crate::gpu::Gpu;
+use crate::readback::read_texture;
+use crate::scene::corridor::Light;
+
+/// `BACKGROUND` in `lighting.wgsl`: where no surface was drawn.
+pub const BACKGROUND: [f32; 3] = [0.02, 0.025, 0.035];
+
+/// One G-buffer sample as the lighting shaders read it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Surface {
+    /// World position; `w` is 0 where no surface was drawn.
+    pub position: [f32; 4],
+    /// Normal (not normalised) and shininess.
+    pub normal: [f32; 4],
+    /// Albedo and specular weight.
+    pub albedo: [f32; 4],
+}
+
+/// Reads every G-buffer sample back, row-major.
+pub fn read_surfaces(gpu: &Gpu, gbuffer: &Gbuffer) -> Result<Vec<Surface>> {
+    let all = wgpu::TextureAspect::All;
+    let position = read_texture(gpu, &gbuffer.position, all, 0)?.as_f32();
+    let normal = read_texture(gpu, &gbuffer.normal, all, 0)?.as_f16();
+    let albedo = read_texture(gpu, &gbuffer.albedo, all, 0)?.bytes;
+    let four = |values: &[f32]| -> [f32; 4] { [values[0], values[1], values[2], values[3]] };
+    Ok(position
+        .chunks_exact(4)
+        .zip(normal.chunks_exact(4))
+        .zip(albedo.chunks_exact(4))
+        .map(|((p, n), a)| Surface {
+            position: four(p),
+            normal: four(n),
+            albedo: a.iter().map(|&b| f32::from(b) / 255.0).collect::<Vec<_>>().try_into().expect("four bytes"),
+        })
+        .collect())
+}
+
+/// The expected colour of one sample and how far a correct GPU result may stray from it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadedSample {
+    pub colour: [f64; 3],
+    /// Absolute bound per channel, f16 storage included.
+    pub bound: [f64; 3],
+}
+
+impl ShadedSample {
+    /// Whether an `Rgba16Float` read-back colour is within the bound.
+    pub fn admits(&self, gpu: &[f32]) -> bool {
+        (0..3).all(|c| (f64::from(gpu[c]) - self.colour[c]).abs() <= self.bound[c])
+    }
+
+    /// The worst channel's error in units of its bound (≤ 1 passes).
+    pub fn error_in_bounds(&self, gpu: &[f32]) -> f64 {
+        (0..3).map(|c| (f64::from(gpu[c]) - self.colour[c]).abs() / self.bound[c]).fold(0.0, f64::max)
+    }
+}
+
+const F32_TERM_RELATIVE: f64 = 1.0 / (1u64 << 18) as f64;
+const LOG2_ABSOLUTE: f64 = 1.0 / (1u64 << 21) as f64;
+const WINDOW_ABSOLUTE: f64 = 1.0 / (1u64 << 22) as f64;
+const AMBIGUOUS_RELATIVE: f64 = 1.0 / (1u64 << 20) as f64;
+const F32_EPSILON_HALF: f64 = 1.0 / (1u64 << 24) as f64;
+
+/// One f16 ulp of `value` (11 significant bits; subnormals below 2^-14 step by 2^-24).
+fn f16_ulp(value: f64) -> f64 {
+    let magnitude = value.abs().max(2f64.powi(-14));
+    2f64.powi(magnitude.log2().floor() as i32 - 10)
+}
+
+fn vec3(v: &[f32]) -> DVec3 {
+    DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
+}
+
+/// The Phong shading of `surface` seen from `eye` under `lights`, as defined in `lighting.wgsl`.
+pub fn shade(surface: &Surface, eye: glam::Vec3, lights: &[Light]) -> ShadedSample {
+    if surface.position[3] == 0.0 {
+        let colour = BACKGROUND.map(f64::from);
+        return ShadedSample { colour, bound: colour.map(f16_ulp) };
+    }
+    let n = vec3(&surface.normal).normalize();
+    let shininess = f64::from(surface.normal[3]);
+    let albedo = vec3(&surface.albedo);
+    let specular_weight = f64::from(surface.albedo[3]);
+    let position = vec3(&surface.position);
+    let to_eye = eye.as_dvec3() - position;
+    let view_distance = to_eye.length();
+    let v = if view_distance > 1e-6 { to_eye / view_distance } else { n };
+
+    let mut colour = albedo * 0.03;
+    let mut magnitude = colour;
+    let mut bound = DVec3::ZERO;
+    for light in lights {
+        let to_light = light.position.as_dvec3() - position;
+        let distance = to_light.length();
+        let range = f64::from(light.range).max(1e-6);
+        let range_ambiguous = (distance - range).abs() <= AMBIGUOUS_RELATIVE * range;
+        if distance >= range && !range_ambiguous {
+            continue;
+        }
+        let l = if distance > 1e-6 { to_light / distance } else { n };
+        let window = (1.0 - (distance / range).powi(2)).max(0.0);
+        let attenuation = window * window / (1.0 + distance * distance);
+        let cosine = n.dot(l);
+        let diffuse = cosine.max(0.0);
+        let h = (l + v).normalize_or_zero();
+        let highlight = n.dot(h).max(0.0).powf(shininess);
+        let radiance = light.colour.as_dvec3() * f64::from(light.intensity) * attenuation;
+        let diffuse_term = radiance * albedo * diffuse;
+        let specular_term = radiance * specular_weight * highlight;
+        let term = diffuse_term + if diffuse > 0.0 { specular_term } else { DVec3::ZERO };
+
+        let relative = F32_TERM_RELATIVE
+            + shininess * LOG2_ABSOLUTE * std::f64::consts::LN_2
+            + if window > 0.0 { 2.0 * WINDOW_ABSOLUTE / window } else { 0.0 };
+        bound += term.abs() * relative;
+        if cosine.abs() <= AMBIGUOUS_RELATIVE {
+            bound += specular_term.abs();
+        }
+        if range_ambiguous {
+            bound += (diffuse_term + specular_term).abs();
+        } else {
+            colour += term;
+        }
+        magnitude += term.abs();
+    }
+    bound += magnitude * (lights.len() as f64 + 1.0) * F32_EPSILON_HALF;
+    let colour = colour.to_array();
+    let bound = std::array::from_fn(|c| bound[c] + f16_ulp(colour[c].abs() + bound[c]));
+    ShadedSample { colour, bound }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+
+    fn surface_facing_up() -> Surface {
+        Surface { position: [0.0, 0.0, 0.0, 1.0], normal: [0.0, 1.0, 0.0, 8.0], albedo: [0.5, 0.5, 0.5, 0.0] }
+    }
+
+    #[test]
+    fn a_light_overhead_lights_by_its_window_and_distance() {
+        let light = Light { position: Vec3::new(0.0, 1.0, 0.0), range: 2.0, colour: Vec3::ONE, intensity: 1.0 };
+        let shaded = shade(&surface_facing_up(), Vec3::new(0.0, 5.0, 0.0), &[light]);
+        // window = 1 − 1/4; attenuation = window² / 2; diffuse 1, no specular weight.
+        let expected = 0.5 * 0.03 + 0.5 * 0.75f64.powi(2) / 2.0;
+        assert!((shaded.colour[0] - expected).abs() < 1e-12, "{:?}", shaded.colour);
+        assert!(shaded.bound[0] < 1e-3 && shaded.bound[0] > 0.0);
+    }
+
+    #[test]
+    fn a_light_beyond_its_range_adds_nothing() {
+        let light = Light { position: Vec3::new(0.0, 3.0, 0.0), range: 2.0, colour: Vec3::ONE, intensity: 9.0 };
+        let shaded = shade(&surface_facing_up(), Vec3::new(0.0, 5.0, 0.0), &[light]);
+        assert!((shaded.colour[0] - 0.015).abs() < 1e-12);
+    }
+
+    #[test]
+    fn empty_pixels_are_the_background() {
+        let mut surface = surface_facing_up();
+        surface.position[3] = 0.0;
+        assert_eq!(shade(&surface, Vec3::ZERO, &[]).colour, BACKGROUND.map(f64::from));
+    }
+
+    #[test]
+    fn f16_ulp_is_2_to_the_minus_10_relative() {
+        assert_eq!(f16_ulp(1.0), 2f64.powi(-10));
+        assert_eq!(f16_ulp(1.5), 2f64.powi(-10));
+        assert_eq!(f16_ulp(1000.0), 2f64.powi(9 - 10));
+    }
+}

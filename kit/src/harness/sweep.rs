@@ -1,0 +1,108 @@
+//! Parameter sweeps: each case declares the ranges its parameters may take ([`Sweep`]), and a
+//! seeded draw picks parameter sets inside them, so a case is checked across its declared space
+//! rather than only at its defaults (`fragkit check --sweep N --seed S`, and the property test in
+//! `cases/tests/sweep.rs`). Every drawn set prints as the `--set` line that reproduces it.
+
+use std::collections::BTreeMap;
+
+use super::case::Case;
+use crate::scene::hash::{SeededRng, pcg_hash};
+
+/// The range a parameter may take in a sweep.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SweepRange {
+    /// An integer in `min..=max`, drawn log-uniformly (as many small values as large ones).
+    Count(u64, u64),
+    /// One size whose width and height are each drawn log-uniformly between the corners.
+    Size { min: (u32, u32), max: (u32, u32) },
+}
+
+/// A parameter a case lets sweeps vary, and its range; the others keep their defaults.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Sweep {
+    pub param: &'static str,
+    pub range: SweepRange,
+}
+
+/// Log-uniform integer in `min..=max`.
+fn log_uniform(rng: &mut SeededRng, min: u64, max: u64) -> u64 {
+    if max <= min {
+        return min;
+    }
+    let (lo, hi) = (((min.max(1)) as f64).ln(), ((max + 1) as f64).ln());
+    let value = (lo + f64::from(rng.unit()) * (hi - lo)).exp().floor() as u64;
+    value.clamp(min, max)
+}
+
+/// Stable across runs and platforms: FNV-1a of the case name.
+fn name_hash(name: &str) -> u32 {
+    name.bytes().fold(0x811c_9dc5u32, |h, b| (h ^ u32::from(b)).wrapping_mul(0x0100_0193))
+}
+
+/// Parameter set `index` of `case`'s sweep under `seed`, as `--set` overrides.
+pub fn draw(case: &Case, seed: u64, index: u32) -> BTreeMap<String, String> {
+    let key = pcg_hash(name_hash(case.name) ^ pcg_hash(seed as u32 ^ pcg_hash((seed >> 32) as u32 ^ index)));
+    let mut rng = SeededRng::new(key);
+    case.sweep
+        .iter()
+        .map(|sweep| {
+            let text = match sweep.range {
+                SweepRange::Count(min, max) => log_uniform(&mut rng, min, max).to_string(),
+                SweepRange::Size { min, max } => {
+                    let w = log_uniform(&mut rng, u64::from(min.0), u64::from(max.0));
+                    let h = log_uniform(&mut rng, u64::from(min.1), u64::from(max.1));
+                    format!("{w}x{h}")
+                }
+            };
+            (sweep.param.to_owned(), text)
+        })
+        .collect()
+}
+
+/// The command line that reruns one drawn parameter set.
+pub fn reproduce_line(case: &Case, overrides: &BTreeMap<String, String>) -> String {
+    let sets: String = overrides.iter().map(|(k, v)| format!(" --set {k}={v}")).collect();
+    format!("fragkit check {}{sets}", case.name)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::harness::{Outcome, ParamKind, ParamSpec};
+
+    const CASE: Case = Case {
+        name: "kit.example",
+        summary: "",
+        requires: wgpu::Features::empty(),
+        params: &[
+            ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "8", help: "" },
+            ParamSpec { name: "size", kind: ParamKind::Sizes, default: "8x8", help: "" },
+        ],
+        sweep: &[
+            Sweep { param: "lights", range: SweepRange::Count(1, 4096) },
+            Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (300, 200) } },
+        ],
+        run: |_| Ok(Outcome::Pass),
+    };
+
+    #[test]
+    fn draws_are_seeded_inside_the_ranges_and_spread_over_decades() {
+        let draws: Vec<_> = (0..200).map(|i| draw(&CASE, 1, i)).collect();
+        assert_eq!(draws, (0..200).map(|i| draw(&CASE, 1, i)).collect::<Vec<_>>(), "same seed, same sets");
+        assert_ne!(draws[0], draw(&CASE, 2, 0), "another seed, another set");
+        let lights: Vec<u64> = draws.iter().map(|d| d["lights"].parse().unwrap()).collect();
+        assert!(lights.iter().all(|l| (1..=4096).contains(l)));
+        assert!(lights.iter().any(|&l| l < 10) && lights.iter().any(|&l| l > 1000), "{lights:?}");
+        for d in &draws {
+            let params = crate::harness::params::Params::resolve(CASE.name, CASE.params, d).unwrap();
+            let (w, h) = params.sizes("size").unwrap()[0];
+            assert!((1..=300).contains(&w) && (1..=200).contains(&h));
+        }
+    }
+
+    #[test]
+    fn the_reproduce_line_names_the_case_and_every_set() {
+        let overrides = BTreeMap::from([("lights".to_owned(), "12".to_owned()), ("size".to_owned(), "3x4".to_owned())]);
+        assert_eq!(reproduce_line(&CASE, &overrides), "fragkit check kit.example --set lights=12 --set size=3x4");
+    }
+}
