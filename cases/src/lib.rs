@@ -37,6 +37,7 @@ pub const ALL: &[Case] = &[
     oit::order_independence::CASE,
     oit::quads_converges::CASE,
     oit::post_filter::CASE,
+    oit::weighted_blended::CASE,
     oit::extremes::CASE,
     cbr::sample_quadrants::CASE,
     cbr::jitter_coverage::CASE,

@@ -81,6 +81,7 @@ case_tests! {
     oit_order_independence => "oit.order_independence",
     oit_quads_converges => "oit.quads.converges",
     oit_post_filter => "oit.post_filter",
+    oit_weighted_blended => "oit.weighted_blended",
     oit_extremes => "oit.extremes",
     cbr_sample_quadrants => "cbr.sample_quadrants",
     cbr_jitter_coverage => "cbr.jitter.coverage",

@@ -43,7 +43,12 @@ fn drawn_parameter_sets_hold() {
             let record = run_case(&gpu, case, &drawn, &expectations, None);
             eprintln!("{:<14} {}", record.outcome.label(), reproduce_line(case, &drawn));
             if record.outcome.is_failure() {
-                failures.push(format!("{}: {}\n  reproduce: {}", case.name, record.reason, reproduce_line(case, &drawn)));
+                failures.push(format!(
+                    "{}: {}\n  reproduce: {}",
+                    case.name,
+                    record.reason,
+                    reproduce_line(case, &drawn)
+                ));
             }
         }
     }

@@ -79,6 +79,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             "CPS loses early stencil rejection: {cps_says}, while the kit's probe shows this adapter rejecting early (ratio {probe_ratio:.2})"
         ))
     } else {
-        Outcome::NotSupported(format!("early stencil rejection: {cps_says}; the kit's probe agrees (ratio {probe_ratio:.2})"))
+        Outcome::NotSupported(format!(
+            "early stencil rejection: {cps_says}; the kit's probe agrees (ratio {probe_ratio:.2})"
+        ))
     })
 }

@@ -43,7 +43,11 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         // Random levels everywhere, and levels 1 and 3 only (0, 2 and 4.. absent).
         let sparse: Vec<u8> = random_lod(size, seed + 1).iter().map(|l| if l % 2 == 0 { 1 } else { 3 }).collect();
         for (name, lod) in [("random", random_lod(size, seed)), ("levels_1_3", sparse)] {
-            let renderer = CpsRenderer::new(ctx.gpu, size, CpsConfig::new(8, LodPolicy::Explicit(lod.clone()), CompositeMode::Nearest))?;
+            let renderer = CpsRenderer::new(
+                ctx.gpu,
+                size,
+                CpsConfig::new(8, LodPolicy::Explicit(lod.clone()), CompositeMode::Nearest),
+            )?;
             renderer.render(ctx.gpu, &frame(&inputs))?;
             let top = renderer.plan.top_level;
             let key = format!("{}x{}.{name}", size.0, size.1);
@@ -63,7 +67,10 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                     wrong += usize::from(!expected.admits(texel));
                 }
             }
-            ctx.metric(&format!("{key}.texels"), serde_json::json!({"checked": checked, "beyond_bound": wrong, "worst_error_in_bounds": worst}));
+            ctx.metric(
+                &format!("{key}.texels"),
+                serde_json::json!({"checked": checked, "beyond_bound": wrong, "worst_error_in_bounds": worst}),
+            );
             if wrong > 0 {
                 problems.push(format!("{key}: {wrong} of {checked} lit texels differ from the Phong of their block's centre pixel (worst {worst:.1}x the bound)"));
             }

@@ -52,7 +52,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let surfaces = read_surfaces(ctx.gpu, &inputs.gbuffer)?;
         let top = top_level(size, max_level);
         for (name, policy) in &policies {
-            let renderer = CpsRenderer::new(ctx.gpu, size, CpsConfig::new(max_level, policy.clone(), CompositeMode::Nearest))?;
+            let renderer =
+                CpsRenderer::new(ctx.gpu, size, CpsConfig::new(max_level, policy.clone(), CompositeMode::Nearest))?;
             renderer.render(ctx.gpu, &frame(&inputs))?;
             let measured = renderer.read_lod(ctx.gpu)?;
 

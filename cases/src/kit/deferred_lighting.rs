@@ -52,7 +52,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     if wrong_count == 0 {
         return Ok(Outcome::Pass);
     }
-    let reference: Vec<f32> = expected.iter().flat_map(|e| [e.colour[0] as f32, e.colour[1] as f32, e.colour[2] as f32, 1.0]).collect();
+    let reference: Vec<f32> =
+        expected.iter().flat_map(|e| [e.colour[0] as f32, e.colour[1] as f32, e.colour[2] as f32, 1.0]).collect();
     let reference = to_display(size.0, size.1, &reference)?;
     let result = to_display(size.0, size.1, &lit)?;
     ctx.evidence_image("comparison", &side_by_side(&result, &reference, &error_mask(&reference, &wrong)))?;

@@ -6,6 +6,7 @@ pub mod extremes;
 pub mod order_independence;
 pub mod post_filter;
 pub mod quads_converges;
+pub mod weighted_blended;
 
 use fragkit::Gpu;
 use fragkit::caps::{common_sample_counts, matches_standard};

@@ -65,11 +65,8 @@ fn upload(ctx: &Ctx, size: (u32, u32), frame: &[[f64; 3]]) -> wgpu::Texture {
         1,
         wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
     );
-    let bytes: Vec<u8> = frame
-        .iter()
-        .flat_map(|p| [p[0], p[1], p[2], 1.0])
-        .flat_map(|c| half::f16::from_f64(c).to_le_bytes())
-        .collect();
+    let bytes: Vec<u8> =
+        frame.iter().flat_map(|p| [p[0], p[1], p[2], 1.0]).flat_map(|c| half::f16::from_f64(c).to_le_bytes()).collect();
     ctx.gpu.queue.write_texture(
         texture.as_image_copy(),
         &bytes,
@@ -106,7 +103,8 @@ fn bilateral(size: (u32, u32), image: &[[f64; 3]]) -> Vec<[f64; 3]> {
                 for dx in -2..=2 {
                     let texel = at(x + dx, y + dy);
                     let range: f64 = (0..3).map(|c| (texel[c] - own[c]).powi(2)).sum();
-                    let weight = (-((dx * dx + dy * dy) as f64) / (2.0 * 1.5 * 1.5) - range / (2.0 * sigma * sigma)).exp();
+                    let weight =
+                        (-((dx * dx + dy * dy) as f64) / (2.0 * 1.5 * 1.5) - range / (2.0 * sigma * sigma)).exp();
                     (0..3).for_each(|c| sum[c] += texel[c] * weight);
                     weights += weight;
                 }
@@ -119,7 +117,8 @@ fn bilateral(size: (u32, u32), image: &[[f64; 3]]) -> Vec<[f64; 3]> {
 /// Pixels where a channel differs by more than `stores` f16 ulps of values ≤ 1 (2^-10 each).
 fn beyond(gpu: &[[f32; 3]], cpu: &[[f64; 3]], stores: u32) -> (usize, f64) {
     let bound = f64::from(stores) / 1024.0;
-    let worst = gpu.iter().zip(cpu).flat_map(|(g, c)| (0..3).map(move |i| (f64::from(g[i]) - c[i]).abs())).fold(0.0, f64::max);
+    let worst =
+        gpu.iter().zip(cpu).flat_map(|(g, c)| (0..3).map(move |i| (f64::from(g[i]) - c[i]).abs())).fold(0.0, f64::max);
     let count = gpu.iter().zip(cpu).filter(|(g, c)| (0..3).any(|i| (f64::from(g[i]) - c[i]).abs() > bound)).count();
     (count, worst)
 }
@@ -148,7 +147,10 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let (wrong_accumulation, worst_accumulation) = beyond(&accumulated, &expected_accumulation, count);
     let (wrong_filtered, worst_filtered) = beyond(&filtered, &expected_filtered, 1);
     ctx.metric("accumulation", serde_json::json!({"pixels_beyond_bound": wrong_accumulation, "worst": worst_accumulation, "bound": f64::from(count) / 1024.0}));
-    ctx.metric("bilateral", serde_json::json!({"pixels_beyond_bound": wrong_filtered, "worst": worst_filtered, "bound": 1.0 / 1024.0}));
+    ctx.metric(
+        "bilateral",
+        serde_json::json!({"pixels_beyond_bound": wrong_filtered, "worst": worst_filtered, "bound": 1.0 / 1024.0}),
+    );
 
     let mut problems = Vec::new();
     if wrong_accumulation > 0 {

@@ -39,7 +39,8 @@ pub fn foveated(screen: (u32, u32), focus: (f32, f32), inner_radius: f32, top: u
             let octaves = (1.0 + distance / radius).log2();
             let boundary = octaves.round();
             levels.push(octaves.floor().min(f64::from(top)) as u8);
-            ambiguous.push(boundary >= 1.0 && boundary <= f64::from(top) && (octaves - boundary).abs() <= LOG2_AMBIGUITY);
+            ambiguous
+                .push(boundary >= 1.0 && boundary <= f64::from(top) && (octaves - boundary).abs() <= LOG2_AMBIGUITY);
         }
     }
     ModelledLod { levels, ambiguous }
@@ -76,13 +77,7 @@ fn across_edge(a: &Surface, b: &Surface, eye: DVec3, normal_cos: f64, depth_rati
 /// Content: a pixel is an edge where it differs from its right or lower neighbour (clamped at the
 /// screen's border); its level is the coarsest l ≤ `top` whose aligned 2^l block, and every finer
 /// block around it, holds no edge pixel (level 0 if its 2×2 block holds one).
-pub fn content(
-    screen: (u32, u32),
-    surfaces: &[Surface],
-    eye: glam::Vec3,
-    policy: (f32, f32),
-    top: u32,
-) -> ModelledLod {
+pub fn content(screen: (u32, u32), surfaces: &[Surface], eye: glam::Vec3, policy: (f32, f32), top: u32) -> ModelledLod {
     let (w, h) = screen;
     let (normal_cos, depth_ratio) = (f64::from(policy.0), f64::from(policy.1));
     let eye = eye.as_dvec3();
@@ -145,16 +140,12 @@ pub fn content(
 }
 
 /// The model of `policy` where it has one (explicit policies are their own input).
-pub fn model(
-    policy: &LodPolicy,
-    screen: (u32, u32),
-    surfaces: &[Surface],
-    eye: glam::Vec3,
-    top: u32,
-) -> ModelledLod {
+pub fn model(policy: &LodPolicy, screen: (u32, u32), surfaces: &[Surface], eye: glam::Vec3, top: u32) -> ModelledLod {
     match policy {
         LodPolicy::Foveated { focus, inner_radius } => foveated(screen, *focus, *inner_radius, top),
-        LodPolicy::Content { normal_cos, depth_ratio } => content(screen, surfaces, eye, (*normal_cos, *depth_ratio), top),
+        LodPolicy::Content { normal_cos, depth_ratio } => {
+            content(screen, surfaces, eye, (*normal_cos, *depth_ratio), top)
+        }
         LodPolicy::Explicit(levels) => ModelledLod {
             levels: levels.iter().map(|&l| l.min(top as u8)).collect(),
             ambiguous: vec![false; levels.len()],

@@ -185,7 +185,14 @@ mod tests {
     use super::*;
 
     fn case(name: &'static str) -> Case {
-        Case { name, summary: "", requires: wgpu::Features::empty(), params: &[], sweep: &[], run: |_| Ok(Outcome::Pass) }
+        Case {
+            name,
+            summary: "",
+            requires: wgpu::Features::empty(),
+            params: &[],
+            sweep: &[],
+            run: |_| Ok(Outcome::Pass),
+        }
     }
 
     #[test]
