@@ -17,9 +17,9 @@ pub const CASE: Case = Case {
     summary: "the GPU's LOD buffer equals the CPU model of the foveated and content policies",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec { name: "sizes", kind: ParamKind::SizesFrom(1), default: "64x48,131x77", help: "screen sizes" },
+        ParamSpec { name: "sizes", kind: ParamKind::SizesFrom(1), default: "64x48,131x77,300x6", help: "screen sizes" },
         ParamSpec { name: "radius", kind: ParamKind::CountIn(1, 512), default: "6", help: "foveation radius (pixels)" },
-        ParamSpec { name: "max_level", kind: ParamKind::CountIn(0, 8), default: "5", help: "coarsest level" },
+        ParamSpec { name: "max_level", kind: ParamKind::CountIn(0, 8), default: "8", help: "coarsest level" },
         ParamSpec { name: "seed", kind: ParamKind::CountIn(0, 1 << 20), default: "3", help: "scene seed" },
     ],
     sweep: &[
