@@ -5,7 +5,6 @@
 mod support;
 
 use fragkit::harness::params::Params;
-use fragkit::harness::runner::run_case;
 use fragkit::harness::sweep::{draw, reproduce_line};
 
 /// Sets per case: enough to leave the defaults on every run, few enough for the suite's budget.
@@ -34,21 +33,15 @@ fn every_declared_range_lies_inside_its_parameter() {
 
 #[test]
 fn drawn_parameter_sets_hold() {
-    let expectations = support::expectations();
-    let gpu = support::gpu().lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     let mut failures = Vec::new();
     for case in fragkit_cases::ALL.iter().filter(|c| !c.sweep.is_empty()) {
         for index in 0..DRAWS {
             let drawn = draw(case, SEED, index);
-            let record = run_case(&gpu, case, &drawn, &expectations, None);
-            eprintln!("{:<14} {}", record.outcome.label(), reproduce_line(case, &drawn));
+            let (record, _) = support::run_with(case, &drawn);
+            let reproduce = reproduce_line(case, &drawn);
+            eprintln!("{:<14} {reproduce}", record.outcome.label());
             if record.outcome.is_failure() {
-                failures.push(format!(
-                    "{}: {}\n  reproduce: {}",
-                    case.name,
-                    record.reason,
-                    reproduce_line(case, &drawn)
-                ));
+                failures.push(format!("{}: {}\n  reproduce: {reproduce}", case.name, record.reason));
             }
         }
     }

@@ -30,6 +30,22 @@ pub fn map_buffer(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>> {
     Ok(bytes)
 }
 
+/// Copies a `COPY_SRC` buffer into a fresh mappable one after the work submitted so far and
+/// reads it as little-endian `u32` words (indirect arguments, counters).
+pub fn read_buffer_words(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u32>> {
+    let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("buffer read-back"),
+        size: buffer.size(),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu.encoder("buffer read-back");
+    encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, buffer.size());
+    gpu.submit(encoder);
+    let bytes = map_buffer(gpu, &staging).with_context(|| format!("reading back {buffer:?}"))?;
+    Ok(bytes.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])).collect())
+}
+
 /// Tightly packed texels of one mip level and aspect.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texels {

@@ -34,7 +34,7 @@ const SIZE: (u32, u32) = (8, 8);
 
 fn layers(count: u32, seed: u32) -> QuadScene {
     let mut rng = SeededRng::new(seed);
-    let mut unit = || f64::from(rng.unit()) as f32;
+    let mut unit = || rng.unit();
     let quads = (0..count)
         .map(|_| {
             let depth = 0.05 + 0.9 * unit();

@@ -9,6 +9,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::{Mutex, OnceLock};
 
+use fragkit::harness::Case;
 use fragkit::harness::expectations::{BUILT_IN, Expectations};
 use fragkit::harness::report::CaseRecord;
 use fragkit::harness::runner::run_case;
@@ -29,8 +30,13 @@ pub fn expectations() -> Expectations {
 /// Runs one registered case on the shared GPU with its default parameters.
 pub fn run(name: &str) -> (CaseRecord, String) {
     let case = fragkit_cases::ALL.iter().find(|c| c.name == name).unwrap_or_else(|| panic!("no case {name}"));
+    run_with(case, &BTreeMap::new())
+}
+
+/// Runs one case on the shared GPU with `overrides` applied to its parameters.
+pub fn run_with(case: &Case, overrides: &BTreeMap<String, String>) -> (CaseRecord, String) {
     let gpu = gpu().lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-    let record = run_case(&gpu, case, &BTreeMap::new(), &expectations(), None);
+    let record = run_case(&gpu, case, overrides, &expectations(), None);
     (record, gpu.description.slug())
 }
 

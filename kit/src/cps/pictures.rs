@@ -6,7 +6,7 @@ use image::{Rgba, RgbaImage};
 
 use super::renderer::CpsRenderer;
 use crate::gpu::Gpu;
-use crate::readback::{map_buffer, read_stencil, read_texture};
+use crate::readback::{read_buffer_words, read_stencil, read_texture};
 use crate::tonemap::to_display;
 
 /// A distinct colour per level, fine (blue) to coarse (red).
@@ -46,17 +46,7 @@ impl CpsRenderer {
     /// The instance count of each level's indirect lighting draw (levels 0..=top), as the frame
     /// left them: 0 for a level the GPU found absent where the plan skips absent levels.
     pub fn read_level_instance_counts(&self, gpu: &Gpu) -> Result<Vec<u32>> {
-        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("level draws read-back"),
-            size: self.level_draws.size(),
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
-        let mut encoder = gpu.encoder("level draws read-back");
-        encoder.copy_buffer_to_buffer(&self.level_draws, 0, &staging, 0, self.level_draws.size());
-        gpu.submit(encoder);
-        let bytes = map_buffer(gpu, &staging)?;
-        let words: Vec<u32> = bytes.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])).collect();
+        let words = read_buffer_words(gpu, &self.level_draws)?;
         Ok(words.chunks_exact(4).take(self.plan.levels() as usize).map(|draw| draw[1]).collect())
     }
 

@@ -12,7 +12,7 @@ use crate::attachments;
 use crate::fullscreen::{FullscreenPipeline, bind_group, uniform_buffer};
 use crate::gpu::Gpu;
 use crate::query::{GpuTimer, OcclusionQueries, median};
-use crate::readback::map_buffer;
+use crate::readback::read_buffer_words;
 use crate::rects::{Rect, RectBatch, RectPipeline, stencil_replace, stencil_state};
 use crate::shaders;
 
@@ -194,12 +194,6 @@ impl StencilGatedDraw {
             contents: bytemuck::cast_slice(&[0u32]),
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         });
-        let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("fragment counter read-back"),
-            size: 4,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
         let bind_group = bind_group(gpu, "fragment counter", &pipeline, 0, &[counter.as_entire_binding()]);
         let mut encoder = gpu.encoder("fragment counter");
         {
@@ -213,9 +207,7 @@ impl StencilGatedDraw {
             pass.set_bind_group(0, &bind_group, &[]);
             pass.draw(0..3, 0..1);
         }
-        encoder.copy_buffer_to_buffer(&counter, 0, &readback, 0, 4);
         gpu.submit(encoder);
-        let bytes = map_buffer(gpu, &readback)?;
-        Ok(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]))
+        Ok(read_buffer_words(gpu, &counter)?[0])
     }
 }
