@@ -86,3 +86,31 @@ pub fn uniform_buffer(gpu: &Gpu, label: &str, contents: &[u8]) -> wgpu::Buffer {
         usage: wgpu::BufferUsages::UNIFORM,
     })
 }
+
+/// Runs `pipeline` (one colour target of `format`, bind group 0 = `group`) over a fresh `size`
+/// target and reads the target back: the shape of every probe that evaluates a function per pixel.
+pub fn render_to_readback(
+    gpu: &Gpu,
+    label: &str,
+    pipeline: &wgpu::RenderPipeline,
+    group: &wgpu::BindGroup,
+    format: wgpu::TextureFormat,
+    size: (u32, u32),
+) -> anyhow::Result<crate::readback::Texels> {
+    let target =
+        gpu.texture(label, size, format, 1, wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC);
+    let view = target.create_view(&Default::default());
+    let mut encoder = gpu.encoder(label);
+    {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &[crate::attachments::colour(&view, None, wgpu::Color::TRANSPARENT)],
+            ..Default::default()
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+    gpu.submit(encoder);
+    crate::readback::read_texture(gpu, &target, wgpu::TextureAspect::All, 0)
+}

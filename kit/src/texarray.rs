@@ -14,7 +14,7 @@ use crate::shaders;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FetchVariant {
-    /// `textureLoad(k mod w, k div w)`: exact while k fits a u32.
+    /// `array_texel` (the renderer's fetch): `textureLoad(k mod w, k div w)`, exact while k fits a u32.
     Integer,
     /// Float divide: y = floor(k / w), x = k − y·w, sampled at the texel centre.
     Divide,

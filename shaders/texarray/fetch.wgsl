@@ -1,6 +1,7 @@
 // A 2D texture used as a 1D array, fetched four ways; pixel i of the result looks up element
 // `indices[i]` and writes the element's value (its index, stored in the texel's four bytes).
-//   0 integer:     textureLoad at (k mod w, k div w)
+//   0 integer:     array_texel (shaders/common/lighting.wgsl, the renderer's own fetch):
+//                  textureLoad at (k mod w, k div w)
 //   1 divide:      y = floor(k / w), x = k - y w, sampled at the texel centre
 //   2 reciprocal:  t = k (1/w); x from fract(t), y from floor(t)
 //   3 one multiply: uv = (1/w, 1/(w h)) (k + 0.5), relying on repeat addressing and nearest filtering
@@ -36,7 +37,7 @@ fn fs_fetch(@builtin(position) position: vec4f) -> @location(0) u32 {
     var texel: vec4f;
     switch fetch.variant {
         case 0u: {
-            texel = textureLoad(elements, vec2u(k % size.x, k / size.x), 0);
+            texel = array_texel(elements, k);
         }
         case 1u: {
             let y = floor(kf / w);

@@ -1,7 +1,9 @@
 //! `cbr.*`: checkerboard rendering.
 
+pub mod exact_sources;
 pub mod extremes;
 pub mod jitter_coverage;
+pub mod layout_mapping;
 pub mod reconstruct_moving;
 pub mod reconstruct_static;
 pub mod sample_quadrants;

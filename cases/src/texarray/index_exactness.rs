@@ -1,7 +1,8 @@
 //! `texarray.index_exactness`: for each way of fetching element k of a 2D texture used as a 1D
 //! array, every index of a sweep up to and past 2^24 (dense near powers of two and the end) is
 //! fetched on the GPU and compared with k. Reports the first wrong index per variant on this
-//! adapter; the integer variant (the one the renderer uses) must be exact everywhere.
+//! adapter; the integer variant — `array_texel` of shaders/common/lighting.wgsl, the very function
+//! the lighting fetches lights with — must be exact everywhere.
 
 use anyhow::Result;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};

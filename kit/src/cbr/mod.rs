@@ -4,6 +4,7 @@
 //! fragment pass reconstructs full resolution from frames N and N−1.
 
 pub mod frame;
+pub mod layout_values;
 pub mod measure;
 pub mod pictures;
 pub mod plan;

@@ -1,11 +1,12 @@
 //! Measures where a checkerboard frame's samples land: a grid of rects, one per
 //! full-resolution pixel with its coordinates as colour, drawn through the quarter-resolution
-//! projection of a jitter phase; each sample reads back the pixel whose rect covered it. The
-//! rasteriser decides, not the kit's mapping.
+//! projection of a jitter phase as the scene passes build it (`quarter_projection`); each sample
+//! reads back the pixel whose rect covered it. The rasteriser and the renderer's projection
+//! decide, not the kit's mapping.
 
 use anyhow::Result;
 
-use super::sampling::{CheckerboardPath, offset_for_sample, quarter_size, sample_positions};
+use super::sampling::{CheckerboardPath, offset_for_sample, quarter_projection, quarter_size, sample_positions};
 use crate::attachments;
 use crate::fullscreen::uniform_buffer;
 use crate::gpu::Gpu;
@@ -28,19 +29,23 @@ fn decode(word: u32) -> Option<(u32, u32)> {
 }
 
 /// The full-resolution pixel rects in quarter-resolution pixels for jitter `phase`, shifted by
-/// `offset` quarter pixels.
+/// `offset` quarter pixels: each pixel's corners go through `quarter_projection`, the transform
+/// the scene passes draw with, so a wrong projection moves the rects.
 fn pixel_rects(screen: (u32, u32), phase: u32, offset: [f32; 2]) -> Vec<(Rect, [f32; 4])> {
+    let to_quarter = quarter_projection(screen, phase, offset);
+    let quarter = quarter_size(screen);
+    let (width, height) = (screen.0 as f32, screen.1 as f32);
+    // Full-resolution pixel corner → full-resolution NDC → quarter NDC → quarter pixels.
+    let corner = |x: u32, y: u32| {
+        let ndc = glam::Vec3::new(x as f32 / width * 2.0 - 1.0, 1.0 - y as f32 / height * 2.0, 0.5);
+        let quarter_ndc = to_quarter.project_point3(ndc);
+        ((quarter_ndc.x + 1.0) * 0.5 * quarter.0 as f32, (1.0 - quarter_ndc.y) * 0.5 * quarter.1 as f32)
+    };
     let mut rects = Vec::with_capacity((screen.0 * screen.1) as usize);
     for y in 0..screen.1 {
         for x in 0..screen.0 {
-            let to_quarter = |v: u32, jitter: u32, shift: f32| (v as f32 - jitter as f32) * 0.5 + shift;
-            let rect = Rect::new(
-                to_quarter(x, phase, offset[0]),
-                to_quarter(y, 0, offset[1]),
-                to_quarter(x + 1, phase, offset[0]),
-                to_quarter(y + 1, 0, offset[1]),
-            );
-            rects.push((rect, encode(x, y)));
+            let ((x0, y0), (x1, y1)) = (corner(x, y), corner(x + 1, y + 1));
+            rects.push((Rect::new(x0, y0, x1, y1), encode(x, y)));
         }
     }
     rects

@@ -3,6 +3,7 @@
 //! weighted blended OIT, depth peeling, and an exact CPU composite.
 
 pub mod filter;
+pub mod fragment_random;
 pub mod methods;
 pub mod pictures;
 pub mod reference;

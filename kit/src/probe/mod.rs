@@ -2,6 +2,7 @@
 //! the `kit.*` cases compare them with what the standards say.
 
 pub mod alpha_to_coverage;
+pub mod hash_values;
 pub mod occlusion;
 pub mod sample_mask;
 pub mod sample_positions;

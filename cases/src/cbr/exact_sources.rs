@@ -1,0 +1,131 @@
+//! `cbr.reconstruct.exact_sources`: two flat rects cross each other over a static rect and a
+//! backdrop, each moving whole pixels a frame (`crossing_rects`). The CPU knows which rect every
+//! pixel shows in frames N and N−1, so it lists exactly which pixels frame N did not sample that
+//! are truly disoccluded (their surface, followed back along its own motion, was hidden in frame
+//! N−1) and which have good history. Wherever a missing pixel and its four neighbours show one
+//! surface (the reconstruction reads motion and depth from the neighbours, so at an edge it cannot
+//! know), CSO must send the disoccluded set — exactly — to the fill, take every other pixel from
+//! the right history texel (its colour is its rect's, within f16 rounding), and report off-screen
+//! sources; sampled pixels must hold their rect's colour. Forward and deferred.
+
+use std::collections::BTreeMap;
+
+use anyhow::Result;
+use fragkit::cbr::measure::{read_hdr, read_sources};
+use fragkit::cbr::sampling::{CheckerboardPath, sampled_pixels};
+use fragkit::cbr::scene::{PixelRect, crossing_rects};
+use fragkit::cbr::{Checkerboard, CheckerboardConfig, PixelSource, Shading};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+
+pub const CASE: Case = Case {
+    name: "cbr.reconstruct.exact_sources",
+    summary: "CSO sends exactly the truly disoccluded pixels to the fill and takes the rest from history",
+    requires: wgpu::Features::empty(),
+    params: &[
+        ParamSpec { name: "size", kind: ParamKind::SizesFrom(16), default: "64x48", help: "screen size" },
+        ParamSpec {
+            name: "frames",
+            kind: ParamKind::CountIn(2, 6),
+            default: "3",
+            help: "frames rendered; the last is measured",
+        },
+    ],
+    sweep: &[
+        Sweep { param: "size", range: SweepRange::Size { min: (16, 16), max: (200, 150) } },
+        Sweep { param: "frames", range: SweepRange::Count(2, 6) },
+    ],
+    run,
+};
+
+/// f16 keeps 11 significant bits, so storing a colour moves it by at most 2^-11 of its value; the
+/// fill's compress/expand round trip adds a few f32 ulps. 2^-10 relative covers both.
+const COLOUR_TOLERANCE: f32 = 1.0 / 1024.0;
+
+/// The rect pixel (x, y) shows in `frame` (front-most by distance), if on screen.
+fn surface(rects: &[PixelRect], x: i64, y: i64, frame: u32) -> Option<usize> {
+    (0..rects.len())
+        .filter(|&i| rects[i].covers(x, y, frame))
+        .min_by(|&a, &b| rects[a].distance.total_cmp(&rects[b].distance))
+}
+
+/// What the CPU expects of pixel (x, y) in `frame`, or None where the reconstruction cannot know
+/// (a missing pixel whose neighbours show other surfaces).
+fn expected_source(rects: &[PixelRect], screen: (u32, u32), frame: u32, x: i64, y: i64) -> Option<PixelSource> {
+    let (now, before) = (sampled_pixels(screen, frame % 2), sampled_pixels(screen, 1 - frame % 2));
+    let on_screen = |x: i64, y: i64| (0..i64::from(screen.0)).contains(&x) && (0..i64::from(screen.1)).contains(&y);
+    let index = |x: i64, y: i64| (y * i64::from(screen.0) + x) as usize;
+    if now[index(x, y)] {
+        return Some(PixelSource::Current);
+    }
+    let shown = surface(rects, x, y, frame)?;
+    let interior = [(-1, 0), (1, 0), (0, -1), (0, 1)]
+        .iter()
+        .all(|(dx, dy)| on_screen(x + dx, y + dy) && surface(rects, x + dx, y + dy, frame) == Some(shown));
+    if !interior {
+        return None;
+    }
+    let (vx, vy) = rects[shown].velocity;
+    let (bx, by) = (x - i64::from(vx), y - i64::from(vy));
+    Some(if !on_screen(bx, by) {
+        PixelSource::OffScreen
+    } else if !before[index(bx, by)] {
+        if now[index(bx, by)] { PixelSource::JitterCancelled } else { PixelSource::OffScreen }
+    } else if surface(rects, bx, by, frame - 1) != Some(shown) {
+        PixelSource::Disoccluded
+    } else {
+        PixelSource::History
+    })
+}
+
+fn run(ctx: &mut Ctx) -> Result<Outcome> {
+    let path = CheckerboardPath::for_adapter(ctx.gpu);
+    ctx.metric("path", path.name());
+    let screen = ctx.params.sizes("size")?[0];
+    let frames = u32::try_from(ctx.params.count("frames")?)?;
+    let last = frames - 1;
+    let (scene, rects) = crossing_rects(screen);
+    let mut problems = Vec::new();
+    for shading in Shading::ALL {
+        let config = CheckerboardConfig::new(screen, path, shading);
+        let mut checkerboard = Checkerboard::new(ctx.gpu, &scene, config)?;
+        for frame in 0..frames {
+            checkerboard.render(ctx.gpu, frame)?;
+        }
+        let colours = read_hdr(ctx.gpu, &checkerboard.reconstruction.colour)?;
+        let sources = read_sources(ctx.gpu, &checkerboard.reconstruction)?;
+
+        // Expected: the CPU's account of every pixel whose source it can know.
+        let mut tally: BTreeMap<String, u64> = BTreeMap::new();
+        let mut wrong = Vec::new();
+        for y in 0..i64::from(screen.1) {
+            for x in 0..i64::from(screen.0) {
+                let i = (y * i64::from(screen.0) + x) as usize;
+                let Some(expected) = expected_source(&rects, screen, last, x, y) else {
+                    *tally.entry("edge_unknowable".into()).or_default() += 1;
+                    continue;
+                };
+                *tally.entry(expected.name().into()).or_default() += 1;
+                if sources[i] != expected {
+                    wrong.push(format!("({x}, {y}) {} not {}", sources[i].name(), expected.name()));
+                    continue;
+                }
+                let shown = surface(&rects, x, y, last).expect("every pixel shows the backdrop at least");
+                let (got, albedo) = (&colours[i * 4..i * 4 + 3], rects[shown].albedo);
+                if got.iter().zip(albedo).any(|(g, a)| (g - a).abs() > COLOUR_TOLERANCE * a.max(1.0 / 255.0)) {
+                    wrong.push(format!("({x}, {y}) from {} shows {got:?}, its rect is {albedo:?}", expected.name()));
+                }
+            }
+        }
+        let key = shading.name();
+        ctx.metric(&format!("{key}.expected"), &tally);
+        ctx.metric(&format!("{key}.wrong"), wrong.len());
+        if !wrong.is_empty() {
+            problems.push(format!(
+                "{key}: {} pixels wrong, e.g. {}",
+                wrong.len(),
+                wrong[..wrong.len().min(4)].join("; ")
+            ));
+        }
+    }
+    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+}
