@@ -1,7 +1,11 @@
 //! CPU expectations for CPS: how many coarse texels each level must shade for a LOD buffer, and
 //! the three composites computed from read-back lit levels by the same equations as
 //! `shaders/cps/composite.wgsl`, `fill_pull.wgsl` and `fill_push.wgsl` (stored values rounded
-//! to f16, as the GPU's `Rgba16Float` targets store them).
+//! to f16, as the GPU's `Rgba16Float` targets store them), each pixel with the bound a correct GPU
+//! keeps to: one f16 ulp per store on the way (CPU and GPU may round a value a hair apart to
+//! neighbouring f16s), f32 evaluation-order slack, both scaled by the magnitudes entering the
+//! pixel, so bright scenes get proportionally wider bounds and dim pixels beside bright ones no
+//! looser ones than they need.
 
 use super::config::CompositeMode;
 
@@ -39,6 +43,12 @@ impl Level {
         self.texels[(y * i64::from(self.extent.0) + x) as usize]
     }
 
+    /// The (up to) four texels a bilinear read at `at` mixes.
+    fn around(&self, at: [f32; 2]) -> [[f32; 4]; 4] {
+        let (x, y) = (at[0].floor() as i64, at[1].floor() as i64);
+        [self.at(x, y), self.at(x + 1, y), self.at(x, y + 1), self.at(x + 1, y + 1)]
+    }
+
     /// Bilinear interpolation at texel coordinate `at` (centres at integers), clamped to the data.
     fn bilinear(&self, at: [f32; 2]) -> [f32; 4] {
         let base = [at[0].floor(), at[1].floor()];
@@ -57,6 +67,44 @@ fn mix(a: [f32; 4], b: [f32; 4], t: f32) -> [f32; 4] {
 
 fn to_f16(texel: [f32; 4]) -> [f32; 4] {
     texel.map(|v| half::f16::from_f32(v).to_f32())
+}
+
+/// One f16 ulp relative to the value (10 fraction bits): what one store to an f16 target may move
+/// a value, since Vulkan lets the conversion round to nearest or toward zero (lavapipe truncates)
+/// while the CPU model rounds to nearest; and the subnormal spacing below the normal range.
+const F16_ULP: f32 = 1.0 / 1024.0;
+const F16_SUBNORMAL: f32 = 1.0 / 16_777_216.0;
+/// The GPU may evaluate a few f32 operations in another order or fused (`mix` as a + t·(b − a)):
+/// 16 f32 ulps of the largest value entering them.
+const F32_SLACK: f32 = 16.0 / 8_388_608.0;
+
+/// A composited pixel and how far a correct GPU may lie from it per channel: the differences the
+/// f16 stores and f32 evaluation order allow, scaled by the magnitudes entering the pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Composited {
+    pub colour: [f32; 4],
+    pub bound: [f32; 3],
+}
+
+impl Composited {
+    /// Channels of `gpu` outside the bound.
+    pub fn within(&self, gpu: [f32; 4]) -> bool {
+        (0..3).all(|c| (gpu[c] - self.colour[c]).abs() <= self.bound[c])
+    }
+}
+
+/// The bound for `value` made from `inputs` (each carrying its own error `carried`), stored to f16
+/// once: the carried errors (convex combinations do not amplify them), the f32 slack of the
+/// largest input and the final rounding.
+fn stored_bound(value: [f32; 4], inputs: &[[f32; 4]], carried: [f32; 4], store_ulps: f32) -> [f32; 4] {
+    std::array::from_fn(|c| {
+        let reach = inputs.iter().map(|t| t[c].abs()).fold(0.0f32, f32::max);
+        carried[c] + F32_SLACK * reach + store_ulps * value[c].abs() + F16_SUBNORMAL
+    })
+}
+
+fn channel_max(a: [f32; 4], b: [f32; 4]) -> [f32; 4] {
+    std::array::from_fn(|c| a[c].max(b[c]))
 }
 
 /// The inputs of a composite: the screen, its LOD buffer and the lit levels 0..=top.
@@ -95,7 +143,8 @@ impl CompositeInputs<'_> {
         neighbour
     }
 
-    fn four_neighbour(&self, p: [i64; 2]) -> [f32; 4] {
+    /// The 4-neighbour colour and the four coarse colours it mixed.
+    fn four_neighbour(&self, p: [i64; 2]) -> ([f32; 4], [[f32; 4]; 4]) {
         let level = self.level_of(p);
         let size = (1i64 << level) as f32;
         let origin = [((p[0] >> level) << level) as f32, ((p[1] >> level) << level) as f32];
@@ -106,59 +155,68 @@ impl CompositeInputs<'_> {
         let py = self.beyond_fragment(p, 1, dy);
         let p2 =
             if q[0].abs() >= q[1].abs() { self.beyond_fragment(px, 1, dy) } else { self.beyond_fragment(py, 0, dx) };
-        let top = mix(self.coarse_colour(p), self.coarse_colour(px), q[0].abs());
-        let bottom = mix(self.coarse_colour(py), self.coarse_colour(p2), q[0].abs());
-        mix(top, bottom, q[1].abs())
+        let inputs = [p, px, py, p2].map(|at| self.coarse_colour(at));
+        let top = mix(inputs[0], inputs[1], q[0].abs());
+        let bottom = mix(inputs[2], inputs[3], q[0].abs());
+        (mix(top, bottom, q[1].abs()), inputs)
     }
 
-    /// The pull-push filled pyramid, as `fill_pull.wgsl` then `fill_push.wgsl` make it.
-    pub fn filled(&self) -> Vec<Level> {
-        let mut pulled: Vec<Level> = vec![self.lit[0].clone()];
+    /// The pull-push filled pyramid, as `fill_pull.wgsl` then `fill_push.wgsl` make it, each
+    /// level with its texels' error bounds (a level of bounds per channel; lit texels carry none).
+    pub fn filled(&self) -> Vec<(Level, Level)> {
+        let exact = |level: &Level| Level { extent: level.extent, texels: vec![[0.0; 4]; level.texels.len()] };
+        let mut pulled: Vec<(Level, Level)> = vec![(self.lit[0].clone(), exact(&self.lit[0]))];
         for level in 1..self.lit.len() {
             let lit = &self.lit[level];
-            let finer = &pulled[level - 1];
+            let (finer, finer_error) = &pulled[level - 1];
             let (w, h) = lit.extent;
-            let texels = (0..h)
+            let (texels, errors): (Vec<[f32; 4]>, Vec<[f32; 4]>) = (0..h)
                 .flat_map(|y| (0..w).map(move |x| (x, y)))
                 .map(|(x, y)| {
                     let own = lit.texels[(y * w + x) as usize];
                     if own[3] == 1.0 {
-                        return own;
+                        return (own, [0.0; 4]);
                     }
-                    let children: Vec<[f32; 4]> = [(0, 0), (1, 0), (0, 1), (1, 1)]
+                    let children: Vec<usize> = [(0, 0), (1, 0), (0, 1), (1, 1)]
                         .into_iter()
                         .map(|(dx, dy)| (2 * x + dx, 2 * y + dy))
                         .filter(|&(cx, cy)| cx < finer.extent.0 && cy < finer.extent.1)
-                        .map(|(cx, cy)| finer.texels[(cy * finer.extent.0 + cx) as usize])
-                        .filter(|t| t[3] == 1.0)
+                        .map(|(cx, cy)| (cy * finer.extent.0 + cx) as usize)
+                        .filter(|&i| finer.texels[i][3] == 1.0)
                         .collect();
                     if children.is_empty() {
-                        return [0.0; 4];
+                        return ([0.0; 4], [0.0; 4]);
                     }
                     let n = children.len() as f32;
-                    let sum = children.iter().fold([0.0f32; 3], |s, t| [s[0] + t[0], s[1] + t[1], s[2] + t[2]]);
-                    to_f16([sum[0] / n, sum[1] / n, sum[2] / n, 1.0])
+                    let values: Vec<[f32; 4]> = children.iter().map(|&i| finer.texels[i]).collect();
+                    let sum = values.iter().fold([0.0f32; 3], |s, t| [s[0] + t[0], s[1] + t[1], s[2] + t[2]]);
+                    let texel = to_f16([sum[0] / n, sum[1] / n, sum[2] / n, 1.0]);
+                    let carried = children.iter().fold([0.0; 4], |e, &i| channel_max(e, finer_error.texels[i]));
+                    (texel, stored_bound(texel, &values, carried, F16_ULP))
                 })
-                .collect();
-            pulled.push(Level { extent: lit.extent, texels });
+                .unzip();
+            pulled.push((Level { extent: lit.extent, texels }, Level { extent: lit.extent, texels: errors }));
         }
         let mut filled = vec![pulled.last().expect("at least one level").clone()];
         for level in (0..pulled.len() - 1).rev() {
-            let coarser = filled.last().expect("pushed from the top").clone();
-            let own = &pulled[level];
+            let (coarser, coarser_error) = filled.last().expect("pushed from the top").clone();
+            let (own, own_error) = &pulled[level];
             let (w, h) = own.extent;
-            let texels = (0..h)
+            let (texels, errors): (Vec<[f32; 4]>, Vec<[f32; 4]>) = (0..h)
                 .flat_map(|y| (0..w).map(move |x| (x, y)))
                 .map(|(x, y)| {
-                    let texel = own.texels[(y * w + x) as usize];
-                    if texel[3] == 1.0 {
-                        return texel;
+                    let i = (y * w + x) as usize;
+                    if own.texels[i][3] == 1.0 {
+                        return (own.texels[i], own_error.texels[i]);
                     }
-                    let c = coarser.bilinear([(x as f32 + 0.5) * 0.5 - 0.5, (y as f32 + 0.5) * 0.5 - 0.5]);
-                    to_f16([c[0], c[1], c[2], 1.0])
+                    let at = [(x as f32 + 0.5) * 0.5 - 0.5, (y as f32 + 0.5) * 0.5 - 0.5];
+                    let c = coarser.bilinear(at);
+                    let texel = to_f16([c[0], c[1], c[2], 1.0]);
+                    let carried = coarser_error.around(at).into_iter().fold([0.0; 4], channel_max);
+                    (texel, stored_bound(texel, &coarser.around(at), carried, F16_ULP))
                 })
-                .collect();
-            filled.push(Level { extent: own.extent, texels });
+                .unzip();
+            filled.push((Level { extent: own.extent, texels }, Level { extent: own.extent, texels: errors }));
         }
         filled.reverse();
         filled
@@ -177,7 +235,7 @@ impl CompositeInputs<'_> {
         Level { extent: (w, h), texels: finest.into_iter().map(|l| [l as f32; 4]).collect() }
     }
 
-    fn seam_free(&self, p: [i64; 2], filled: &[Level]) -> [f32; 4] {
+    fn seam_free(&self, p: [i64; 2], filled: &[(Level, Level)]) -> Composited {
         let top = self.top();
         let k = super::renderer::SEAM_FREE_TRANSITION_LEVEL.min(top);
         let cell = (1i64 << k) as f32;
@@ -187,28 +245,73 @@ impl CompositeInputs<'_> {
         let coarse = (fine + 1).min(top);
         let at = |level: u32| {
             let size = (1i64 << level) as f32;
-            filled[level as usize].bilinear([(p[0] as f32 + 0.5) / size - 0.5, (p[1] as f32 + 0.5) / size - 0.5])
+            [(p[0] as f32 + 0.5) / size - 0.5, (p[1] as f32 + 0.5) / size - 0.5]
         };
-        mix(at(fine), at(coarse), field - field.floor())
+        let [(fine_colour, fine_error), (coarse_colour, coarse_error)] = [fine, coarse].map(|level| {
+            let (colours, errors) = &filled[level as usize];
+            (colours.bilinear(at(level)), errors.around(at(level)).into_iter().fold([0.0; 4], channel_max))
+        });
+        let colour = mix(fine_colour, coarse_colour, field - field.floor());
+        let inputs: Vec<[f32; 4]> =
+            [fine, coarse].iter().flat_map(|&level| filled[level as usize].0.around(at(level))).collect();
+        let bound = stored_bound(colour, &inputs, channel_max(fine_error, coarse_error), F16_ULP);
+        Composited { colour, bound: [bound[0], bound[1], bound[2]] }
     }
 
     /// The composite in `mode`, RGBA per pixel (alpha 1), before the f16 store.
     pub fn composite(&self, mode: CompositeMode) -> Vec<[f32; 4]> {
+        self.composite_with_bounds(mode).into_iter().map(|pixel| pixel.colour).collect()
+    }
+
+    /// The composite in `mode` with each pixel's bound (its f16 store included).
+    pub fn composite_with_bounds(&self, mode: CompositeMode) -> Vec<Composited> {
         let filled = (mode == CompositeMode::SeamFree).then(|| self.filled());
         let (w, h) = self.screen;
+        let direct = |colour: [f32; 4], inputs: &[[f32; 4]]| {
+            let bound = stored_bound(colour, inputs, [0.0; 4], F16_ULP);
+            Composited { colour, bound: [bound[0], bound[1], bound[2]] }
+        };
         (0..h)
             .flat_map(|y| (0..w).map(move |x| [i64::from(x), i64::from(y)]))
             .map(|p| {
-                let colour = match (mode, &filled) {
-                    (CompositeMode::Nearest, _) => self.coarse_colour(p),
-                    (CompositeMode::FourNeighbour, _) => self.four_neighbour(p),
+                let pixel = match (mode, &filled) {
+                    (CompositeMode::Nearest, _) => {
+                        let colour = self.coarse_colour(p);
+                        direct(colour, &[colour])
+                    }
+                    (CompositeMode::FourNeighbour, _) => {
+                        let (colour, inputs) = self.four_neighbour(p);
+                        direct(colour, &inputs)
+                    }
                     (CompositeMode::SeamFree, Some(filled)) => self.seam_free(p, filled),
                     (CompositeMode::SeamFree, None) => unreachable!("filled is computed for the seam-free mode"),
                 };
-                [colour[0], colour[1], colour[2], 1.0]
+                Composited { colour: [pixel.colour[0], pixel.colour[1], pixel.colour[2], 1.0], ..pixel }
             })
             .collect()
     }
+}
+
+/// Whether the kit claims, for a screen and a plan's top level, that the seam-free composite has
+/// a lower seam error than the 4-neighbour one (Err: why not). The claim needs at least two level
+/// steps (with one, both blend over the same two pixels and tie within rounding) and a short side
+/// of at least four transition cells of 2^k pixels, so the blend band is not clipped by the
+/// screen's edges; measured on lavapipe over sizes 1x8..200x150, top levels 1..8 and 1..1000
+/// lights, it held wherever these do. Outside them `fragkit report cps` shows both errors.
+pub fn seam_claim_applies(screen: (u32, u32), top_level: u32) -> Result<(), String> {
+    let k = super::renderer::SEAM_FREE_TRANSITION_LEVEL.min(top_level);
+    if top_level < 2 {
+        return Err(format!("top level {top_level} has fewer than two level steps"));
+    }
+    let needed = 4 << k;
+    if screen.0.min(screen.1) < needed {
+        return Err(format!(
+            "the short side {} spans fewer than four {}-pixel transition cells",
+            screen.0.min(screen.1),
+            1 << k
+        ));
+    }
+    Ok(())
 }
 
 /// The seam metric: across every pair of neighbouring pixels with different LODs, how far the
