@@ -3,11 +3,15 @@
 //! stencil itself where the adapter copies stencil), and the occlusion query around each level's
 //! stencil-Equal lighting draw counts exactly those texels. For the foveated and content policies,
 //! a seeded random LOD per pixel and all pixels at level 8 (past the screen), on 1×1, odd and
-//! even sizes.
+//! even sizes. The levels come from the policies' CPU models (`cps::lod_model`), not the GPU's LOD
+//! buffer; a texel whose block holds a pixel the model calls ambiguous may go either way and is
+//! left out of the texel comparison (and widens the count's range by one), counted in the metric.
 
 use anyhow::Result;
-use fragkit::cps::reference::{expected_shaded_texels, needed_texels};
+use fragkit::cps::lod_model::model;
+use fragkit::cps::reference::{blocks_holding, needed_texels};
 use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy, MAX_LEVEL};
+use fragkit::deferred::phong::read_surfaces;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 
@@ -50,46 +54,72 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let mut problems = Vec::new();
     for size in ctx.params.sizes("sizes")? {
         let inputs = corridor_inputs(ctx.gpu, size, 2, seed)?;
+        let surfaces = read_surfaces(ctx.gpu, &inputs.gbuffer)?;
         for (name, policy) in policies(size, seed) {
-            let config = CpsConfig::new(MAX_LEVEL, policy, CompositeMode::Nearest);
+            let config = CpsConfig::new(MAX_LEVEL, policy.clone(), CompositeMode::Nearest);
             let renderer = CpsRenderer::new(ctx.gpu, size, config)?;
             let output = renderer.render(ctx.gpu, &frame(&inputs))?;
 
-            // Expected, from the LOD buffer the GPU used: texels whose block holds a pixel of the level.
-            let lod = renderer.read_lod(ctx.gpu)?;
+            // Expected, from the policy's model: texels whose block holds a pixel of the level;
+            // texels beside an ambiguous pixel may go either way.
             let top = renderer.plan.top_level;
-            let expected = expected_shaded_texels(size, &lod, top);
+            let modelled = model(&policy, size, &surfaces, inputs.eye, top);
             let key = format!("{}x{}.{name}", size.0, size.1);
-            ctx.metric(
-                &key,
-                serde_json::json!({"top_level": top, "expected": expected, "measured": output.shaded_texels}),
-            );
+            let mut expected = Vec::new();
+            let mut undecided = Vec::new();
 
             // Route 1: the texels each level's lighting wrote (alpha 1), read back texel by texel;
             // route 2, where depth/stencil copies exist: each stencil level itself.
             for level in 0..=top {
-                let needed = needed_texels(size, &lod, top, level);
+                let needed = needed_texels(size, &modelled.levels, top, level);
+                let uncertain = blocks_holding(size, &modelled.ambiguous, level);
+                let sure = |i: usize| !uncertain[i];
+                expected.push(needed.iter().enumerate().filter(|&(i, &n)| n && sure(i)).count() as u64);
+                undecided.push(uncertain.iter().filter(|&&u| u).count() as u64);
                 let lit = renderer.read_lit_level(ctx.gpu, level)?;
-                let wrong = lit.chunks_exact(4).zip(&needed).filter(|&(t, &n)| (t[3] == 1.0) != n).count();
+                let wrong = lit
+                    .chunks_exact(4)
+                    .zip(&needed)
+                    .enumerate()
+                    .filter(|&(i, (t, &n))| sure(i) && (t[3] == 1.0) != n)
+                    .count();
                 if wrong > 0 {
                     problems
                         .push(format!("{key}: level {level} lit {wrong} texels it should not have, or missed them"));
                 }
                 if stencil_copies {
                     let stencil = renderer.read_stencil_level(ctx.gpu, level)?;
-                    let wrong = stencil.iter().zip(&needed).filter(|&(&s, &n)| (s != 0) != n).count();
+                    let wrong = stencil
+                        .iter()
+                        .zip(&needed)
+                        .enumerate()
+                        .filter(|&(i, (&s, &n))| sure(i) && (s != 0) != n)
+                        .count();
                     if wrong > 0 {
                         problems.push(format!("{key}: level {level} stencil wrong at {wrong} texels"));
                     }
                 }
             }
-            // Route 2: the occlusion counts of the stencil-Equal lighting draws.
-            let counts_agree = match precision {
-                OcclusionPrecision::Exact => output.shaded_texels == expected,
-                _ => output.shaded_texels.iter().zip(&expected).all(|(&m, &e)| (m > 0) == (e > 0)),
-            };
+            ctx.metric(
+                &key,
+                serde_json::json!({"top_level": top, "expected": expected, "undecided": undecided, "measured": output.shaded_texels}),
+            );
+            // Route 2: the occlusion counts of the stencil-Equal lighting draws, within the
+            // undecided texels of each level.
+            let in_range = |m: u64, e: u64, u: u64| (e..=e + u).contains(&m);
+            let counts_agree = output.shaded_texels.len() == expected.len()
+                && (0..expected.len()).all(|l| {
+                    let (m, e, u) = (output.shaded_texels[l], expected[l], undecided[l]);
+                    match precision {
+                        OcclusionPrecision::Exact => in_range(m, e, u),
+                        _ => (m > 0) == (e > 0) || u > 0,
+                    }
+                });
             if !counts_agree {
-                problems.push(format!("{key}: occlusion counts {:?}, expected {expected:?}", output.shaded_texels));
+                problems.push(format!(
+                    "{key}: occlusion counts {:?}, expected {expected:?} (plus up to {undecided:?} undecided)",
+                    output.shaded_texels
+                ));
             }
         }
     }

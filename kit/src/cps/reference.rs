@@ -12,16 +12,22 @@ use super::config::CompositeMode;
 /// For level `level`, whether each texel (row-major over ceil(screen / 2^level)) holds some pixel
 /// whose LOD, clamped to `top`, is `level`: exactly the texels its stencil must mark.
 pub fn needed_texels(screen: (u32, u32), lod: &[u8], top: u32, level: u32) -> Vec<bool> {
+    let at_level: Vec<bool> = lod.iter().map(|&l| u32::from(l).min(top) == level).collect();
+    blocks_holding(screen, &at_level, level)
+}
+
+/// For level `level`, whether each texel's 2^level block holds a pixel marked in `pixels`.
+pub fn blocks_holding(screen: (u32, u32), pixels: &[bool], level: u32) -> Vec<bool> {
     let (w, h) = (screen.0.div_ceil(1 << level), screen.1.div_ceil(1 << level));
-    let mut needed = vec![false; (w * h) as usize];
+    let mut held = vec![false; (w * h) as usize];
     for y in 0..screen.1 {
         for x in 0..screen.0 {
-            if u32::from(lod[(y * screen.0 + x) as usize]).min(top) == level {
-                needed[((y >> level) * w + (x >> level)) as usize] = true;
+            if pixels[(y * screen.0 + x) as usize] {
+                held[((y >> level) * w + (x >> level)) as usize] = true;
             }
         }
     }
-    needed
+    held
 }
 
 /// Texels each level 0..=top must shade.
