@@ -6,7 +6,7 @@
 use anyhow::Result;
 use fragkit::cbr::probe::measure_landing;
 use fragkit::cbr::sampling::{CheckerboardPath, check_screen, documented_gaps};
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 
 pub const CASE: Case = Case {
     name: "cbr.jitter.coverage",
@@ -18,7 +18,7 @@ pub const CASE: Case = Case {
         default: "2x2,7x5,33x17,64x48",
         help: "full-resolution sizes",
     }],
-    sweep: &[],
+    sweep: &[Sweep { param: "sizes", range: SweepRange::Size { min: (2, 2), max: (400, 300) } }],
     run,
 };
 

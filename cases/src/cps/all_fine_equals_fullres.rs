@@ -5,7 +5,7 @@
 use anyhow::Result;
 use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy, MAX_LEVEL};
 use fragkit::deferred::lighting::light_full_resolution;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::image_compare::{compare, side_by_side};
 use fragkit::readback::read_texture;
 use fragkit::tonemap::to_display;
@@ -20,7 +20,10 @@ pub const CASE: Case = Case {
         ParamSpec { name: "size", kind: ParamKind::Sizes, default: "96x64", help: "screen size" },
         ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "32", help: "point lights" },
     ],
-    sweep: &[],
+    sweep: &[
+        Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (200, 150) } },
+        Sweep { param: "lights", range: SweepRange::Count(1, 4096) },
+    ],
     run,
 };
 

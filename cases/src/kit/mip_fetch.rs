@@ -9,7 +9,7 @@ use anyhow::{Context, Result, ensure};
 use fragkit::cps::targets::MipChain;
 use fragkit::fullscreen::{FullscreenPipeline, bind_group};
 use fragkit::gpu::Gpu;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::image_compare::side_by_side;
 use fragkit::readback::read_texture;
 use fragkit::scene::hash::SeededRng;
@@ -29,7 +29,7 @@ pub const CASE: Case = Case {
         },
         ParamSpec { name: "seed", kind: ParamKind::Count, default: "1", help: "seed of the level maps" },
     ],
-    sweep: &[],
+    sweep: &[Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) }],
     run,
 };
 

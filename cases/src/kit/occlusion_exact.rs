@@ -5,7 +5,7 @@
 use anyhow::{Context, Result};
 use fragkit::attachments;
 use fragkit::caps::common_sample_counts;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 use fragkit::probe::sample_positions::measure;
 use fragkit::query::OcclusionQueries;
@@ -22,7 +22,11 @@ pub const CASE: Case = Case {
         ParamSpec { name: "rects", kind: ParamKind::Count, default: "24", help: "stencil rects per pattern" },
         ParamSpec { name: "seed", kind: ParamKind::Count, default: "1", help: "pattern seed" },
     ],
-    sweep: &[],
+    sweep: &[
+        Sweep { param: "sizes", range: SweepRange::Size { min: (1, 1), max: (400, 300) } },
+        Sweep { param: "rects", range: SweepRange::Count(1, 256) },
+        Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
+    ],
     run,
 };
 

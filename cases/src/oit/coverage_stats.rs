@@ -9,7 +9,7 @@
 //! - α = 0 and α = 1: exactly no and full coverage.
 
 use anyhow::Result;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::oit::scene::{Quad, QuadScene};
 use fragkit::oit::stochastic::{
     COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, Stochastic, exact_alpha_table, render_stochastic,
@@ -33,7 +33,10 @@ pub const CASE: Case = Case {
             help: "frames (seeds) averaged",
         },
     ],
-    sweep: &[],
+    sweep: &[
+        Sweep { param: "size", range: SweepRange::Size { min: (8, 8), max: (128, 128) } },
+        Sweep { param: "frames", range: SweepRange::Count(1, 32) },
+    ],
     run,
 };
 

@@ -4,7 +4,7 @@
 //! when it is drawn, and the depth test resolves the rest.
 
 use anyhow::Result;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::oit::scene::QuadScene;
 use fragkit::oit::stochastic::{COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, available_variants, render_stochastic};
 use fragkit::query::GpuTimer;
@@ -17,7 +17,7 @@ pub const CASE: Case = Case {
     summary: "every draw order of the paper's quads gives a bit-identical stochastic frame",
     requires: wgpu::Features::empty(),
     params: &[ParamSpec { name: "size", kind: ParamKind::Sizes, default: "48x48", help: "target size" }],
-    sweep: &[],
+    sweep: &[Sweep { param: "size", range: SweepRange::Size { min: (4, 4), max: (128, 128) } }],
     run,
 };
 

@@ -8,7 +8,7 @@
 //! floors are reported.
 
 use anyhow::Result;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::oit::filter::{PostFilter, read_rgb};
 use fragkit::oit::reference::{exact_image, rmse};
 use fragkit::oit::scene::QuadScene;
@@ -25,7 +25,7 @@ pub const CASE: Case = Case {
     summary: "accumulated stochastic transparency converges to the exact composite like 1/sqrt(frames)",
     requires: wgpu::Features::empty(),
     params: &[ParamSpec { name: "size", kind: ParamKind::Sizes, default: "64x64", help: "target size" }],
-    sweep: &[],
+    sweep: &[Sweep { param: "size", range: SweepRange::Size { min: (8, 8), max: (128, 128) } }],
     run,
 };
 
