@@ -25,6 +25,14 @@ pub const CASE: Case = Case {
     run,
 };
 
+/// Every place (row-major, `width` wide) where `got` differs from `defined`, described.
+fn mismatches<T: PartialEq + std::fmt::Debug>(got: &[T], defined: &[T], width: u32, what: &str) -> Vec<String> {
+    (0..got.len())
+        .filter(|&i| got[i] != defined[i])
+        .map(|i| format!("{what} ({}, {}): {:?}, defined {:?}", i as u32 % width, i as u32 / width, got[i], defined[i]))
+        .collect()
+}
+
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let positions = sample_positions();
     let mut problems = Vec::new();
@@ -48,26 +56,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 }
             }
             let name = format!("{}x{}.phase{phase}", screen.0, screen.1);
-            let pixel_errors: Vec<String> = (0..screen.0 * screen.1)
-                .filter(|&i| got.texel_of_pixel[i as usize] != texel_of_pixel[i as usize])
-                .map(|i| {
-                    let (x, y) = (i % screen.0, i / screen.0);
-                    format!(
-                        "pixel ({x}, {y}) in texel {:?}, defined {:?}",
-                        got.texel_of_pixel[i as usize], texel_of_pixel[i as usize]
-                    )
-                })
-                .collect();
-            let centre_errors: Vec<String> = (0..layout.0 * layout.1)
-                .filter(|&i| got.centre_of_texel[i as usize] != centre_of_texel[i as usize])
-                .map(|i| {
-                    let (x, y) = (i % layout.0, i / layout.0);
-                    format!(
-                        "texel ({x}, {y}) sees {:?}, defined {:?}",
-                        got.centre_of_texel[i as usize], centre_of_texel[i as usize]
-                    )
-                })
-                .collect();
+            let pixel_errors = mismatches(&got.texel_of_pixel, &texel_of_pixel, screen.0, "pixel");
+            let centre_errors = mismatches(&got.centre_of_texel, &centre_of_texel, layout.0, "texel");
             ctx.metric(&format!("{name}.wrong_pixels"), pixel_errors.len());
             ctx.metric(&format!("{name}.wrong_centres"), centre_errors.len());
             for (what, errors) in [("pixels", pixel_errors), ("texel centres", centre_errors)] {
