@@ -13,7 +13,7 @@ const TIMING_METRICS: &[&str] =
 fn check(name: &str) {
     let (record, slug) = support::run(name);
     assert!(
-        !record.outcome.is_failure(),
+        !record.outcome.is_failure(false),
         "{name}: {:?}: {}\nmetrics: {}",
         record.outcome,
         record.reason,

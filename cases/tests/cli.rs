@@ -132,3 +132,55 @@ fn faults_fail_their_own_case_and_the_run_goes_on_on_a_new_device() {
     assert!(cases[1]["metrics"]["error_after_the_loss"].is_string(), "{report}");
     assert_eq!(outcome(2), ("kit.determinism", "pass"), "the case after the loss runs on a new device");
 }
+
+#[test]
+fn shards_run_every_case_once_and_merge_into_one_report_with_junit() {
+    let dir = std::env::temp_dir().join(format!("fragkit-shards-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cases = ["kit.hash.values", "kit.msaa.sample_mask", "cbr.layout.mapping"];
+    let mut reports = Vec::new();
+    for k in 1..=2 {
+        let json = dir.join(format!("shard{k}.json"));
+        let mut args = vec!["check".to_owned(), "--shard".into(), format!("{k}/2"), "--json".into()];
+        args.push(json.to_str().unwrap().into());
+        args.extend(cases.iter().map(|c| c.to_string()));
+        let (code, text) = fragkit(&args.iter().map(String::as_str).collect::<Vec<_>>());
+        assert_eq!(code, 0, "{text}");
+        reports.push(json);
+    }
+    let (merged, junit) = (dir.join("merged.json"), dir.join("merged.xml"));
+    let (code, text) = fragkit(&[
+        "merge",
+        reports[0].to_str().unwrap(),
+        reports[1].to_str().unwrap(),
+        "--json",
+        merged.to_str().unwrap(),
+        "--junit",
+        junit.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{text}");
+    let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&merged).unwrap()).unwrap();
+    let mut names: Vec<&str> =
+        report["cases"].as_array().unwrap().iter().map(|c| c["name"].as_str().unwrap()).collect();
+    names.sort_unstable();
+    assert_eq!(names, ["cbr.layout.mapping", "kit.hash.values", "kit.msaa.sample_mask"]);
+    let xml = std::fs::read_to_string(&junit).unwrap();
+    assert!(xml.contains("<testsuites name=\"fragkit\" tests=\"3\" failures=\"0\""), "{xml}");
+    assert_eq!(xml.matches("<testcase ").count(), 3, "{xml}");
+
+    // The same shard twice overlaps; a truncated report is refused; so are impossible shards.
+    let (code, text) = fragkit(&["merge", reports[0].to_str().unwrap(), reports[0].to_str().unwrap()]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("overlapping shards"), "{text}");
+    let truncated = dir.join("truncated.json");
+    let whole = std::fs::read_to_string(&reports[1]).unwrap();
+    std::fs::write(&truncated, &whole[..whole.len() / 2]).unwrap();
+    let (code, text) = fragkit(&["merge", reports[0].to_str().unwrap(), truncated.to_str().unwrap()]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("is not a fragkit report"), "{text}");
+    for bad in ["3/2", "0/4", "2"] {
+        let (code, text) = fragkit(&["check", "--shard", bad, "kit.hash.values"]);
+        assert_eq!(code, 2, "--shard {bad}: {text}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

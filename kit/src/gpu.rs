@@ -19,7 +19,7 @@ pub struct AdapterSelector {
 }
 
 /// What the report says about an adapter.
-#[derive(Clone, Debug, Default, Serialize, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, Serialize, serde::Deserialize, PartialEq, Eq)]
 pub struct AdapterDescription {
     pub name: String,
     pub backend: String,

@@ -1,10 +1,13 @@
 //! The case harness: cases with parameters and requirements, outcomes, the expectations file of
-//! known driver issues, the runner that isolates each case, and the JSON report.
+//! known driver issues, the runner that isolates each case, the run loop that feeds every record
+//! to its sinks, and the JSON and JUnit reports.
 
 pub mod case;
 pub mod expectations;
+pub mod junit;
 pub mod params;
 pub mod report;
+pub mod run;
 pub mod runner;
 pub mod sweep;
 

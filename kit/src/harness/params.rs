@@ -28,7 +28,7 @@ pub struct ParamSpec {
     pub help: &'static str,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 #[serde(untagged)]
 pub enum ParamValue {
     Count(u64),
@@ -79,6 +79,11 @@ impl ParamKind {
 pub struct Params(BTreeMap<&'static str, ParamValue>);
 
 impl Params {
+    /// The values by name, as a report records them.
+    pub fn to_map(&self) -> BTreeMap<String, ParamValue> {
+        self.0.iter().map(|(k, v)| ((*k).to_owned(), v.clone())).collect()
+    }
+
     /// Defaults of `specs`, with `overrides` (key → text) applied where a spec has that key.
     pub fn resolve(case: &str, specs: &[ParamSpec], overrides: &BTreeMap<String, String>) -> Result<Self> {
         let mut values = BTreeMap::new();

@@ -1,17 +1,18 @@
 //! The JSON report: `{"adapter": {...}, "cases": [{"name", "outcome", "reason", "params",
-//! "metrics", "gpu_ms", "wall_ms"}]}`, written atomically.
+//! "metrics", "gpu_ms", "wall_ms", "attempts"}]}`, written atomically, read back for `fragkit
+//! merge` (the shards of one run) with clear errors for a corrupt or truncated file.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
-use serde::Serialize;
+use anyhow::{Context, Result, bail};
+use serde::{Deserialize, Serialize};
 
-use super::params::Params;
+use super::params::ParamValue;
 use crate::gpu::AdapterDescription;
 
 /// A case's outcome as reported, after the expectations file was applied.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ReportedOutcome {
     Pass,
@@ -21,12 +22,14 @@ pub enum ReportedOutcome {
     KnownIssue,
     /// Listed in the expectations file but passed: the entry is stale.
     UnexpectedPass,
+    /// Failed, then passed when run again (`--retry`): for a deterministic kit, a finding.
+    Flaky,
 }
 
 impl ReportedOutcome {
-    /// Whether this outcome fails a CI run.
-    pub fn is_failure(self) -> bool {
-        matches!(self, Self::Fail | Self::UnexpectedPass)
+    /// Whether this outcome fails a CI run (a flaky case only when `flaky_fails`).
+    pub fn is_failure(self, flaky_fails: bool) -> bool {
+        matches!(self, Self::Fail | Self::UnexpectedPass) || (flaky_fails && self == Self::Flaky)
     }
 
     pub fn label(self) -> &'static str {
@@ -36,32 +39,84 @@ impl ReportedOutcome {
             Self::NotSupported => "not_supported",
             Self::KnownIssue => "known_issue",
             Self::UnexpectedPass => "UNEXPECTED_PASS",
+            Self::Flaky => "FLAKY",
         }
     }
 }
 
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CaseRecord {
     pub name: String,
     pub outcome: ReportedOutcome,
     pub reason: String,
-    pub params: Params,
+    pub params: BTreeMap<String, ParamValue>,
     pub metrics: BTreeMap<String, serde_json::Value>,
     /// Sum of the case's timed passes; null where the adapter has no timestamps.
     pub gpu_ms: Option<f64>,
     pub wall_ms: f64,
     pub evidence: Vec<PathBuf>,
+    /// Runs of the case: 1, or more where `--retry` ran a failure again.
+    #[serde(default = "one")]
+    pub attempts: u32,
 }
 
-#[derive(Clone, Debug, Serialize)]
+fn one() -> u32 {
+    1
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Report {
     pub adapter: AdapterDescription,
     pub cases: Vec<CaseRecord>,
 }
 
 impl Report {
-    pub fn failures(&self) -> usize {
-        self.cases.iter().filter(|c| c.outcome.is_failure()).count()
+    pub fn failures(&self, flaky_fails: bool) -> usize {
+        self.cases.iter().filter(|c| c.outcome.is_failure(flaky_fails)).count()
+    }
+
+    /// Reads a report `fragkit check --json` wrote.
+    pub fn read(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).with_context(|| format!("reading the report {}", path.display()))?;
+        serde_json::from_str(&text).with_context(|| {
+            format!("{} is not a fragkit report (corrupt or truncated JSON, or another format)", path.display())
+        })
+    }
+
+    /// One report from the shards of a run: every report of the same adapter, no case run with
+    /// the same parameters twice.
+    pub fn merge(reports: Vec<(PathBuf, Report)>) -> Result<Self> {
+        let Some((first_path, first)) = reports.first() else {
+            bail!("nothing to merge: give the shards' reports");
+        };
+        let adapter = first.adapter.clone();
+        let mut cases: Vec<CaseRecord> = Vec::new();
+        for (path, report) in &reports {
+            if report.adapter != adapter {
+                bail!(
+                    "{} ran on {} ({}, {}), {} on {} ({}, {}): merge joins the shards of one adapter's run",
+                    path.display(),
+                    report.adapter.name,
+                    report.adapter.backend,
+                    report.adapter.driver_info,
+                    first_path.display(),
+                    adapter.name,
+                    adapter.backend,
+                    adapter.driver_info
+                );
+            }
+            for case in &report.cases {
+                if cases.iter().any(|c| c.name == case.name && c.params == case.params) {
+                    bail!(
+                        "{} runs {} with parameters another report already holds: overlapping shards",
+                        path.display(),
+                        case.name
+                    );
+                }
+                cases.push(case.clone());
+            }
+        }
+        Ok(Self { adapter, cases })
     }
 
     /// Writes the report through a temporary file and a rename, so that an interrupted run never

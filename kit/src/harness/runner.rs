@@ -172,11 +172,12 @@ pub fn run_case(
         name: case.name.to_owned(),
         outcome,
         reason,
-        params: ctx.params,
+        params: ctx.params.to_map(),
         metrics: ctx.metrics,
         gpu_ms,
         wall_ms: started.elapsed().as_secs_f64() * 1e3,
         evidence: ctx.evidence,
+        attempts: 1,
     }
 }
 

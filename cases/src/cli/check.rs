@@ -1,0 +1,113 @@
+//! `fragkit check`: run the selected cases (a sweep's draws, one shard's share) on one adapter and
+//! hand every record to the sinks asked for: the table, the JSON report, JUnit XML.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use fragkit::gpu::{AdapterSelector, Gpu};
+use fragkit::harness::expectations::{BUILT_IN, Expectations};
+use fragkit::harness::junit::JunitSink;
+use fragkit::harness::params::parse_overrides;
+use fragkit::harness::run::{JsonSink, RunOptions, Shard, Sink, plan_runs, run};
+use fragkit::harness::runner::{check_overrides, check_sizes, select};
+
+use super::table::TableSink;
+
+#[derive(clap::Args)]
+pub struct CheckArgs {
+    patterns: Vec<String>,
+    /// Override a parameter: key=value.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// Write the JSON report here.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Write a JUnit XML report here (fail and unexpected_pass as failures, not_supported and
+    /// known_issue as skipped).
+    #[arg(long)]
+    junit: Option<PathBuf>,
+    /// Write evidence images into this folder.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Known-issues file (default: the one built in, cases/expectations.toml).
+    #[arg(long)]
+    expectations: Option<PathBuf>,
+    /// Run each case with N parameter sets drawn from its declared ranges (cases without
+    /// ranges run once at their defaults); `--set` pins a parameter. Failures print the
+    /// command that reproduces them.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    sweep: Option<u32>,
+    /// Seed of the sweep's draws.
+    #[arg(long, default_value_t = 1, requires = "sweep")]
+    seed: u64,
+    /// Run only shard K of N (every N-th case run, from the K-th); `fragkit merge` joins the
+    /// shards' JSON reports.
+    #[arg(long, value_name = "K/N")]
+    shard: Option<String>,
+    /// Run a failed case again up to N times; one that then passes is reported `flaky`.
+    #[arg(long, value_name = "N", default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=100))]
+    retry: u32,
+    /// Count flaky cases as failures (exit 1).
+    #[arg(long)]
+    flaky_fails: bool,
+}
+
+/// Fails now, not after the run, when an output file cannot be written.
+fn check_writable(path: &Path) -> Result<()> {
+    let probe = path.with_extension("probe.tmp");
+    std::fs::write(&probe, b"").with_context(|| format!("the report path {} is not writable", path.display()))?;
+    std::fs::remove_file(&probe).ok();
+    Ok(())
+}
+
+pub fn check(selector: &AdapterSelector, args: CheckArgs) -> Result<ExitCode> {
+    // Check every input before touching the GPU.
+    let cases = select(fragkit_cases::ALL, &args.patterns)?;
+    let overrides = parse_overrides(&args.sets)?;
+    check_overrides(&cases, &overrides)?;
+    let shard = args.shard.as_deref().map(Shard::parse).transpose()?;
+    let expectations = match &args.expectations {
+        Some(path) => Expectations::load(path)?,
+        None => Expectations::parse(BUILT_IN, "cases/expectations.toml (built in)")?,
+    };
+    if let Some(dir) = &args.out {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating the evidence folder {}", dir.display()))?;
+    }
+    for path in args.json.iter().chain(&args.junit) {
+        check_writable(path)?;
+    }
+    let gpu = Gpu::open(selector)?;
+    let d = &gpu.description;
+    println!("adapter: {} ({}, {} {})", d.name, d.backend, d.driver, d.driver_info);
+
+    let mut runs = plan_runs(&cases, &overrides, args.sweep.map(|count| (count, args.seed)));
+    if let Some(shard) = shard {
+        runs = shard.select(runs);
+        println!("shard {}/{}: {} case runs", shard.index, shard.count, runs.len());
+    }
+    for planned in &runs {
+        check_sizes(&gpu, &[planned.case], &planned.overrides)?;
+    }
+
+    let options = RunOptions {
+        expectations: &expectations,
+        evidence_dir: args.out.as_deref(),
+        reproduce_lines: args.sweep.is_some(),
+        retries: args.retry,
+    };
+    let mut table = TableSink::new();
+    let mut json = args.json.as_deref().map(|path| JsonSink { path });
+    let mut junit = args.junit.as_deref().map(|path| JunitSink { path, flaky_fails: args.flaky_fails });
+    let mut sinks: Vec<&mut dyn Sink> = vec![&mut table];
+    if let Some(sink) = json.as_mut() {
+        sinks.push(sink);
+    }
+    if let Some(sink) = junit.as_mut() {
+        sinks.push(sink);
+    }
+    let report = run(gpu, &runs, &options, &mut sinks)?;
+    let failures = report.failures(args.flaky_fails);
+    println!("{} cases: {} unexpected failures", report.cases.len(), failures);
+    Ok(if failures == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}

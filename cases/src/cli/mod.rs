@@ -1,0 +1,92 @@
+//! The `fragkit` command line: the argument definitions, and one file per subcommand.
+
+pub mod adapters;
+pub mod caps;
+pub mod check;
+pub mod list;
+pub mod merge;
+pub mod render;
+pub mod report;
+pub mod table;
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(name = "fragkit", version, about = "Deterministic, compute-free GPU conformance kit")]
+pub struct Cli {
+    /// Backend: vulkan, gl, metal, dx12.
+    #[arg(long, global = true, env = "WGPU_BACKEND")]
+    pub backend: Option<String>,
+    /// Substring of the adapter name.
+    #[arg(long, global = true, env = "WGPU_ADAPTER_NAME")]
+    pub adapter: Option<String>,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Every adapter on every backend.
+    Adapters,
+    /// Measure the selected adapter's capabilities with tiny renders.
+    Caps {
+        /// Also write the report as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+    /// List cases with their parameters and requirements.
+    List { pattern: Option<String> },
+    /// Render a technique's intermediates and results as PNGs for a person to look at.
+    Render {
+        #[command(subcommand)]
+        technique: render::Technique,
+    },
+    /// Sweep a technique's settings and write error against GPU time (JSON, markdown, PNG plot).
+    Report {
+        #[command(subcommand)]
+        technique: report::ReportTechnique,
+    },
+    /// Run cases (glob patterns; all when none) and exit 1 on any unexpected failure.
+    Check(check::CheckArgs),
+    /// Join the JSON reports of one run's shards (`check --shard K/N`) into one report.
+    Merge(merge::MergeArgs),
+}
+
+/// Light counts: at least one; 65536 lights are 2048 rows of the 64-wide light texture, within
+/// WebGPU's guaranteed 8192.
+pub fn light_count() -> clap::builder::RangedI64ValueParser<u32> {
+    clap::value_parser!(u32).range(1..=65_536)
+}
+
+pub fn frame_count() -> clap::builder::RangedI64ValueParser<u32> {
+    clap::value_parser!(u32).range(1..=100_000)
+}
+
+/// CPS levels: 0..=8 (2^8-pixel coarse fragments, the stencil pyramid's top).
+pub fn lod_level() -> clap::builder::RangedI64ValueParser<u32> {
+    clap::value_parser!(u32).range(0..=fragkit::cps::MAX_LEVEL as i64)
+}
+
+pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    match fragkit::harness::ParamKind::Sizes.parse(text) {
+        Ok(fragkit::harness::params::ParamValue::Sizes(sizes)) if sizes.len() == 1 => Ok(sizes[0]),
+        Ok(_) => Err(format!("{text:?}: expected one size like 320x180")),
+        Err(e) => Err(format!("{e:#}")),
+    }
+}
+
+/// A named OIT scene: `paper`, `intersecting` or `stiff_<layers>`.
+pub fn oit_scene(name: &str, seed: u32) -> Result<fragkit::oit::scene::QuadScene> {
+    use fragkit::oit::scene::QuadScene;
+    match name {
+        "paper" => Ok(QuadScene::paper()),
+        "intersecting" => Ok(QuadScene::intersecting()),
+        other => match other.strip_prefix("stiff_").map(str::parse::<u32>) {
+            Some(Ok(layers)) if (1..=256).contains(&layers) => Ok(QuadScene::stiff(layers, seed)),
+            _ => anyhow::bail!("unknown OIT scene {other:?}; expected paper, intersecting or stiff_<1..=256>"),
+        },
+    }
+}

@@ -1,0 +1,75 @@
+//! The run loop (`fragkit::harness::run`): retries tell a flaky case from a failing one, and every
+//! sink sees the same records.
+
+use std::sync::atomic::{AtomicU32, Ordering};
+
+use fragkit::harness::expectations::{BUILT_IN, Expectations};
+use fragkit::harness::report::{CaseRecord, Report, ReportedOutcome};
+use fragkit::harness::run::{CaseRun, RunOptions, Sink, run};
+use fragkit::harness::{Case, Outcome};
+use fragkit::{AdapterSelector, Gpu};
+
+static FLAKY_CALLS: AtomicU32 = AtomicU32::new(0);
+
+const FLAKY: Case = Case {
+    name: "test.flaky",
+    summary: "fails on its first run only",
+    requires: wgpu::Features::empty(),
+    params: &[],
+    sweep: &[],
+    run: |_| {
+        Ok(if FLAKY_CALLS.fetch_add(1, Ordering::SeqCst) == 0 {
+            Outcome::Fail("first run".into())
+        } else {
+            Outcome::Pass
+        })
+    },
+};
+
+const BROKEN: Case = Case {
+    name: "test.broken",
+    summary: "always fails",
+    requires: wgpu::Features::empty(),
+    params: &[],
+    sweep: &[],
+    run: |_| Ok(Outcome::Fail("always".into())),
+};
+
+#[derive(Default)]
+struct Collect {
+    records: Vec<String>,
+    finished: usize,
+}
+
+impl Sink for Collect {
+    fn record(&mut self, record: &CaseRecord) -> anyhow::Result<()> {
+        self.records.push(record.name.clone());
+        Ok(())
+    }
+    fn finish(&mut self, report: &Report) -> anyhow::Result<()> {
+        self.finished = report.cases.len();
+        Ok(())
+    }
+}
+
+#[test]
+fn retries_report_flaky_cases_and_keep_failing_ones_failed() {
+    let gpu = Gpu::open(&AdapterSelector::default()).unwrap_or_else(|e| panic!("{e:#}"));
+    let expectations = Expectations::parse(BUILT_IN, "built in").unwrap();
+    let options = RunOptions { expectations: &expectations, evidence_dir: None, reproduce_lines: false, retries: 2 };
+    let runs = [&FLAKY, &BROKEN].map(|case| CaseRun { case, overrides: Default::default() });
+    let (mut first, mut second) = (Collect::default(), Collect::default());
+    let report = run(gpu, &runs, &options, &mut [&mut first, &mut second]).unwrap();
+
+    let flaky = &report.cases[0];
+    assert_eq!((flaky.outcome, flaky.attempts), (ReportedOutcome::Flaky, 2), "{}", flaky.reason);
+    assert!(flaky.reason.contains("first run"), "{}", flaky.reason);
+    let broken = &report.cases[1];
+    assert_eq!((broken.outcome, broken.attempts), (ReportedOutcome::Fail, 3));
+    assert_eq!(report.failures(false), 1);
+    assert_eq!(report.failures(true), 2);
+    for sink in [&first, &second] {
+        assert_eq!(sink.records, ["test.flaky", "test.broken"]);
+        assert_eq!(sink.finished, 2);
+    }
+}

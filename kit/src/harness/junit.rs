@@ -1,0 +1,183 @@
+//! A report as JUnit XML, the dialect GitLab, Jenkins and GitHub's test reporters read: one
+//! `<testsuite>` for the adapter, a `<testcase>` per case run (classname: the case's area, e.g.
+//! `cbr.reconstruct`). `fail` and `unexpected_pass` are `<failure>`s with the reason,
+//! `not_supported` and `known_issue` `<skipped>` with theirs, `flaky` passes (with its story in
+//! `<system-out>`) unless flaky cases fail the run.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::{Context, Result};
+
+use super::report::{CaseRecord, Report, ReportedOutcome};
+use super::run::Sink;
+
+/// Escapes text for an XML attribute or element (and drops the control characters XML 1.0 forbids).
+fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            '\t' | '\n' | '\r' => out.push(c),
+            c if (c as u32) < 0x20 => {}
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// The case's area: its name up to the last dot.
+fn classname(name: &str) -> &str {
+    name.rsplit_once('.').map_or(name, |(area, _)| area)
+}
+
+/// A test name unique within the report: the case name, with its parameters where the case ran
+/// more than once (a sweep).
+fn test_name(record: &CaseRecord, runs_of_case: usize) -> String {
+    if runs_of_case <= 1 {
+        return record.name.clone();
+    }
+    let params: Vec<String> =
+        record.params.iter().map(|(k, v)| format!("{k}={}", serde_json::to_string(v).unwrap_or_default())).collect();
+    format!("{} [{}]", record.name, params.join(" "))
+}
+
+/// The JUnit XML of `report`.
+pub fn to_junit(report: &Report, flaky_fails: bool) -> String {
+    let mut runs_of: BTreeMap<&str, usize> = BTreeMap::new();
+    for case in &report.cases {
+        *runs_of.entry(case.name.as_str()).or_default() += 1;
+    }
+    let failures = report.failures(flaky_fails);
+    let skipped = report
+        .cases
+        .iter()
+        .filter(|c| matches!(c.outcome, ReportedOutcome::NotSupported | ReportedOutcome::KnownIssue))
+        .count();
+    let seconds: f64 = report.cases.iter().map(|c| c.wall_ms).sum::<f64>() / 1e3;
+    let a = &report.adapter;
+    let suite = format!("fragkit on {} ({}, {} {})", a.name, a.backend, a.driver, a.driver_info);
+    let mut xml = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    let tests = report.cases.len();
+    let _ = writeln!(
+        xml,
+        "<testsuites name=\"fragkit\" tests=\"{tests}\" failures=\"{failures}\" errors=\"0\" skipped=\"{skipped}\" time=\"{seconds:.3}\">"
+    );
+    let _ = writeln!(
+        xml,
+        "  <testsuite name=\"{}\" tests=\"{tests}\" failures=\"{failures}\" errors=\"0\" skipped=\"{skipped}\" time=\"{seconds:.3}\">",
+        escape(&suite)
+    );
+    xml.push_str("    <properties>\n");
+    for (name, value) in [
+        ("adapter", &a.name),
+        ("backend", &a.backend),
+        ("driver", &a.driver),
+        ("driver_info", &a.driver_info),
+        ("device_type", &a.device_type),
+    ] {
+        let _ = writeln!(xml, "      <property name=\"{name}\" value=\"{}\"/>", escape(value));
+    }
+    xml.push_str("    </properties>\n");
+    for case in &report.cases {
+        let _ = write!(
+            xml,
+            "    <testcase name=\"{}\" classname=\"{}\" time=\"{:.3}\"",
+            escape(&test_name(case, runs_of[case.name.as_str()])),
+            escape(classname(&case.name)),
+            case.wall_ms / 1e3
+        );
+        let first_line = case.reason.lines().next().unwrap_or_default();
+        let body = match case.outcome {
+            ReportedOutcome::Pass => None,
+            ReportedOutcome::Flaky if !flaky_fails => {
+                Some(format!("      <system-out>{}</system-out>\n", escape(&case.reason)))
+            }
+            ReportedOutcome::Fail | ReportedOutcome::UnexpectedPass | ReportedOutcome::Flaky => Some(format!(
+                "      <failure message=\"{}\" type=\"{}\">{}</failure>\n",
+                escape(first_line),
+                case.outcome.label(),
+                escape(&case.reason)
+            )),
+            ReportedOutcome::NotSupported | ReportedOutcome::KnownIssue => {
+                Some(format!("      <skipped message=\"{}: {}\"/>\n", case.outcome.label(), escape(first_line)))
+            }
+        };
+        match body {
+            None => xml.push_str("/>\n"),
+            Some(body) => {
+                xml.push_str(">\n");
+                xml.push_str(&body);
+                xml.push_str("    </testcase>\n");
+            }
+        }
+    }
+    xml.push_str("  </testsuite>\n</testsuites>\n");
+    xml
+}
+
+/// Writes the JUnit XML when the run finishes.
+pub struct JunitSink<'a> {
+    pub path: &'a Path,
+    pub flaky_fails: bool,
+}
+
+impl Sink for JunitSink<'_> {
+    fn finish(&mut self, report: &Report) -> Result<()> {
+        write_junit(report, self.path, self.flaky_fails)
+    }
+}
+
+/// Writes `report` as JUnit XML to `path` through a temporary file and a rename.
+pub fn write_junit(report: &Report, path: &Path, flaky_fails: bool) -> Result<()> {
+    let temporary = path.with_extension("xml.tmp");
+    std::fs::write(&temporary, to_junit(report, flaky_fails))
+        .with_context(|| format!("writing {}", temporary.display()))?;
+    std::fs::rename(&temporary, path)
+        .with_context(|| format!("moving the JUnit report into place at {}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gpu::AdapterDescription;
+
+    fn record(name: &str, outcome: ReportedOutcome, reason: &str) -> CaseRecord {
+        CaseRecord {
+            name: name.into(),
+            outcome,
+            reason: reason.into(),
+            params: BTreeMap::new(),
+            metrics: BTreeMap::new(),
+            gpu_ms: None,
+            wall_ms: 1500.0,
+            evidence: Vec::new(),
+            attempts: 1,
+        }
+    }
+
+    #[test]
+    fn outcomes_map_to_failures_and_skips_with_escaped_reasons() {
+        let report = Report {
+            adapter: AdapterDescription { name: "llvmpipe <x>".into(), ..Default::default() },
+            cases: vec![
+                record("kit.a", ReportedOutcome::Pass, ""),
+                record("cbr.b.c", ReportedOutcome::Fail, "2 < 3 & \"more\"\nsecond line"),
+                record("oit.d", ReportedOutcome::NotSupported, "no 8x"),
+                record("cps.e", ReportedOutcome::Flaky, "failed, then pass"),
+            ],
+        };
+        let xml = to_junit(&report, false);
+        assert!(xml.contains("tests=\"4\" failures=\"1\" errors=\"0\" skipped=\"1\""));
+        assert!(xml.contains("classname=\"cbr.b\""));
+        assert!(xml.contains("<failure message=\"2 &lt; 3 &amp; &quot;more&quot;\" type=\"FAIL\">"));
+        assert!(xml.contains("<skipped message=\"not_supported: no 8x\"/>"));
+        assert!(xml.contains("llvmpipe &lt;x&gt;"));
+        assert!(to_junit(&report, true).contains("failures=\"2\""));
+    }
+}

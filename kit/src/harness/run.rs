@@ -1,0 +1,199 @@
+//! A run of selected cases on one adapter: the list of case runs (a sweep's draws included), a
+//! deterministic share of it for one shard machine, and the loop that runs each case in
+//! isolation, re-runs failures (`--retry`), reopens a lost device and hands every record to the
+//! run's sinks (table, JSON, JUnit, …), so that each sink sees the same records.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use anyhow::{Result, bail};
+
+use super::case::Case;
+use super::expectations::Expectations;
+use super::report::{CaseRecord, Report, ReportedOutcome};
+use super::runner::run_case;
+use super::sweep;
+use crate::gpu::{AdapterDescription, Gpu};
+
+/// One case to run with its `--set` overrides (drawn from its ranges under a sweep).
+#[derive(Clone)]
+pub struct CaseRun<'c> {
+    pub case: &'c Case,
+    pub overrides: BTreeMap<String, String>,
+}
+
+/// The runs of `cases`: each once with `overrides`, or under `sweep` = (N, seed) N draws from its
+/// declared ranges (once for a case without ranges), `overrides` pinning what they name.
+pub fn plan_runs<'c>(
+    cases: &[&'c Case],
+    overrides: &BTreeMap<String, String>,
+    sweep: Option<(u32, u64)>,
+) -> Vec<CaseRun<'c>> {
+    match sweep {
+        None => cases.iter().map(|&case| CaseRun { case, overrides: overrides.clone() }).collect(),
+        Some((count, seed)) => cases
+            .iter()
+            .flat_map(|&case| {
+                let draws = if case.sweep.is_empty() { 1 } else { count };
+                (0..draws).map(move |index| {
+                    let mut drawn = sweep::draw(case, seed, index);
+                    drawn.extend(overrides.iter().map(|(k, v)| (k.clone(), v.clone())));
+                    drawn.retain(|key, _| case.params.iter().any(|p| p.name == key));
+                    CaseRun { case, overrides: drawn }
+                })
+            })
+            .collect(),
+    }
+}
+
+/// Shard `index` of `count` (1-based, as `--shard K/N` spells it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    pub index: u32,
+    pub count: u32,
+}
+
+impl Shard {
+    /// Parses `K/N` with 1 ≤ K ≤ N.
+    pub fn parse(text: &str) -> Result<Self> {
+        let parsed = text
+            .split_once('/')
+            .and_then(|(k, n)| Some((k.trim().parse::<u32>().ok()?, n.trim().parse::<u32>().ok()?)));
+        match parsed {
+            Some((index, count)) if (1..=count).contains(&index) => Ok(Self { index, count }),
+            _ => bail!("--shard {text:?}: expected K/N with 1 <= K <= N, e.g. 2/4"),
+        }
+    }
+
+    /// This shard's runs: every N-th of the list, starting at the K-th. The list is the same on
+    /// every machine (registry order, seeded draws), so the shards together run each once.
+    pub fn select<'c>(self, runs: Vec<CaseRun<'c>>) -> Vec<CaseRun<'c>> {
+        runs.into_iter()
+            .enumerate()
+            .filter(|(i, _)| *i as u32 % self.count == self.index - 1)
+            .map(|(_, run)| run)
+            .collect()
+    }
+}
+
+/// Where a run's records go. `record` sees each case as it finishes; `finish` the whole report,
+/// also when the run stops early (a device that cannot be reopened).
+pub trait Sink {
+    fn start(&mut self, _adapter: &AdapterDescription, _runs: usize) -> Result<()> {
+        Ok(())
+    }
+    fn record(&mut self, _record: &CaseRecord) -> Result<()> {
+        Ok(())
+    }
+    fn finish(&mut self, report: &Report) -> Result<()>;
+}
+
+/// How a run treats its cases.
+pub struct RunOptions<'a> {
+    pub expectations: &'a Expectations,
+    pub evidence_dir: Option<&'a Path>,
+    /// Append the `fragkit check … --set …` line that reproduces a failure (sweeps).
+    pub reproduce_lines: bool,
+    /// Re-run a failed case up to this many times; passing on a retry makes it `flaky`.
+    pub retries: u32,
+}
+
+/// Runs `runs` on `gpu`, handing every record to `sinks`; returns the report.
+pub fn run(mut gpu: Gpu, runs: &[CaseRun], options: &RunOptions, sinks: &mut [&mut dyn Sink]) -> Result<Report> {
+    for sink in sinks.iter_mut() {
+        sink.start(&gpu.description, runs.len())?;
+    }
+    let mut report = Report { adapter: gpu.description.clone(), cases: Vec::new() };
+    for run in runs {
+        let mut record = run_case(&gpu, run.case, &run.overrides, options.expectations, options.evidence_dir);
+        while record.outcome == ReportedOutcome::Fail && record.attempts <= options.retries && gpu.lost().is_none() {
+            let again = run_case(&gpu, run.case, &run.overrides, options.expectations, options.evidence_dir);
+            let attempts = record.attempts + 1;
+            if again.outcome == ReportedOutcome::Fail {
+                record = CaseRecord { attempts, ..again };
+            } else {
+                let first = std::mem::take(&mut record.reason);
+                record = CaseRecord {
+                    outcome: ReportedOutcome::Flaky,
+                    reason: format!("failed, then {} on attempt {attempts}: {first}", again.outcome.label()),
+                    attempts,
+                    ..again
+                };
+            }
+        }
+        if options.reproduce_lines && record.outcome.is_failure(true) {
+            record.reason =
+                format!("{} [reproduce: {}]", record.reason, sweep::reproduce_line(run.case, &run.overrides));
+        }
+        for sink in sinks.iter_mut() {
+            sink.record(&record)?;
+        }
+        report.cases.push(record);
+        if gpu.lost().is_some() {
+            // The lost case is recorded as failed; the rest run on a fresh device.
+            match gpu.reopen() {
+                Ok(fresh) => gpu = fresh,
+                Err(e) => {
+                    for sink in sinks.iter_mut() {
+                        sink.finish(&report)?;
+                    }
+                    return Err(
+                        e.context("reopening the device after it was lost; the report holds the cases that ran")
+                    );
+                }
+            }
+        }
+    }
+    for sink in sinks.iter_mut() {
+        sink.finish(&report)?;
+    }
+    Ok(report)
+}
+
+/// Writes the JSON report when the run finishes (atomically).
+pub struct JsonSink<'a> {
+    pub path: &'a Path,
+}
+
+impl Sink for JsonSink<'_> {
+    fn finish(&mut self, report: &Report) -> Result<()> {
+        report.write_atomically(self.path)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::harness::Outcome;
+
+    fn case(name: &'static str) -> Case {
+        Case {
+            name,
+            summary: "",
+            requires: wgpu::Features::empty(),
+            params: &[],
+            sweep: &[],
+            run: |_| Ok(Outcome::Pass),
+        }
+    }
+
+    #[test]
+    fn shards_together_run_every_case_once() {
+        let cases = [case("a"), case("b"), case("c"), case("d"), case("e")];
+        let selected: Vec<&Case> = cases.iter().collect();
+        let runs = plan_runs(&selected, &BTreeMap::new(), None);
+        let mut seen: Vec<&str> = (1..=3)
+            .flat_map(|k| Shard { index: k, count: 3 }.select(runs.clone()).into_iter().map(|r| r.case.name))
+            .collect();
+        seen.sort_unstable();
+        assert_eq!(seen, ["a", "b", "c", "d", "e"]);
+    }
+
+    #[test]
+    fn shard_spellings_outside_one_to_n_are_refused() {
+        assert_eq!(Shard::parse("2/4").unwrap(), Shard { index: 2, count: 4 });
+        for bad in ["3/2", "0/4", "1/0", "1", "a/b", "-1/2"] {
+            assert!(Shard::parse(bad).is_err(), "{bad} accepted");
+        }
+    }
+}
