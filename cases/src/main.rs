@@ -1,5 +1,5 @@
 //! `fragkit`: list adapters, measure capabilities, list and run the conformance cases, render and
-//! report the techniques, merge shards' reports. Each subcommand lives in `cli/`.
+//! report the techniques, merge shards' reports, compare two runs. Each subcommand lives in `cli/`.
 
 mod cli;
 
@@ -33,6 +33,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::Report { technique } => cli::report::report(&selector, technique)?,
         Command::Check(args) => return cli::check::check(&selector, args),
         Command::Merge(args) => return cli::merge::merge(args),
+        Command::Compare(args) => return cli::compare::compare_reports(args),
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -184,3 +184,48 @@ fn shards_run_every_case_once_and_merge_into_one_report_with_junit() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Copies `dir` recursively (the shader tree for a mutated copy).
+fn copy_tree(from: &std::path::Path, to: &std::path::Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let entry = entry.unwrap();
+        let target = to.join(entry.file_name());
+        if entry.file_type().unwrap().is_dir() {
+            copy_tree(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), target).unwrap();
+        }
+    }
+}
+
+#[test]
+fn compare_reports_a_case_broken_in_the_new_run_and_exits_non_zero() {
+    let dir = std::env::temp_dir().join(format!("fragkit-compare-{}", std::process::id()));
+    let shaders = dir.join("shaders");
+    copy_tree(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders"), &shaders);
+    let (base, same, broken) = (dir.join("base.json"), dir.join("same.json"), dir.join("broken.json"));
+    let cases = ["kit.hash.values", "cbr.layout.mapping"];
+    for path in [&base, &same] {
+        let (code, text) = fragkit(&[&["check", "--json", path.to_str().unwrap()][..], &cases].concat());
+        assert_eq!(code, 0, "{text}");
+    }
+    // The new run's WGSL hash differs from its definition.
+    let hash = shaders.join("common/hash.wgsl");
+    let text = std::fs::read_to_string(&hash).unwrap().replace("+ 2891336453u", "+ 2891336451u");
+    std::fs::write(&hash, text).unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_fragkit"))
+        .args([&["check", "--json", broken.to_str().unwrap()][..], &cases].concat())
+        .env("FRAGKIT_SHADER_DIR", &shaders)
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(1));
+
+    let (code, text) = fragkit(&["compare", base.to_str().unwrap(), same.to_str().unwrap()]);
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("0 regressions"), "{text}");
+    let (code, text) = fragkit(&["compare", base.to_str().unwrap(), broken.to_str().unwrap()]);
+    assert_eq!(code, 1, "{text}");
+    assert!(text.contains("1 regressions") && text.contains("| `kit.hash.values` | pass | FAIL |"), "{text}");
+    std::fs::remove_dir_all(&dir).ok();
+}

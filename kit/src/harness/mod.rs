@@ -3,6 +3,7 @@
 //! to its sinks, and the JSON and JUnit reports.
 
 pub mod case;
+pub mod compare;
 pub mod expectations;
 pub mod junit;
 pub mod params;
