@@ -34,6 +34,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::Check(args) => return cli::check::check(&selector, args),
         Command::Merge(args) => return cli::merge::merge(args),
         Command::Compare(args) => return cli::compare::compare_reports(args),
+        Command::Import(args) => cli::import::import(args)?,
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -229,3 +229,50 @@ fn compare_reports_a_case_broken_in_the_new_run_and_exits_non_zero() {
     assert!(text.contains("1 regressions") && text.contains("| `kit.hash.values` | pass | FAIL |"), "{text}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn runs_recorded_in_a_database_compare_and_concurrent_writers_both_land() {
+    let dir = std::env::temp_dir().join(format!("fragkit-db-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let db = dir.join("results.sqlite");
+    let db = db.to_str().unwrap();
+    for tag in ["base", "new"] {
+        let (code, text) = fragkit(&["check", "kit.hash.values", "cbr.layout.mapping", "--db", db, "--tag", tag]);
+        assert_eq!(code, 0, "{text}");
+        assert!(text.contains("recorded as run"), "{text}");
+    }
+    let (code, text) = fragkit(&["compare", "--db", db, "latest~1", "latest"]);
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("0 regressions"), "{text}");
+
+    // Two processes importing at once: both runs land.
+    let report = dir.join("report.json");
+    let (code, text) = fragkit(&["check", "kit.hash.values", "--json", report.to_str().unwrap()]);
+    assert_eq!(code, 0, "{text}");
+    let writers: Vec<_> = (0..2)
+        .map(|_| {
+            Command::new(env!("CARGO_BIN_EXE_fragkit"))
+                .args(["import", "--db", db, report.to_str().unwrap()])
+                .spawn()
+                .unwrap()
+        })
+        .collect();
+    for mut writer in writers {
+        assert!(writer.wait().unwrap().success());
+    }
+    let (code, text) = fragkit(&["compare", "--db", db, "tag:base", "latest"]);
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("only in the base"), "{text}");
+    let (code, text) = fragkit(&["compare", "--db", db, "latest~4", "latest"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("holds no run latest~4 (4 runs recorded)"), "{text}");
+
+    // Not a database, and no --db for a run name: refused.
+    let junk = dir.join("junk.sqlite");
+    std::fs::write(&junk, "not a database").unwrap();
+    let (code, text) = fragkit(&["check", "kit.hash.values", "--db", junk.to_str().unwrap()]);
+    assert_eq!(code, 2, "{text}");
+    let (code, text) = fragkit(&["compare", "latest~1", "latest"]);
+    assert_eq!(code, 2, "{text}");
+    std::fs::remove_dir_all(&dir).ok();
+}

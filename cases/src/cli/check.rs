@@ -1,11 +1,13 @@
 //! `fragkit check`: run the selected cases (a sweep's draws, one shard's share) on one adapter and
-//! hand every record to the sinks asked for: the table, the JSON report, JUnit XML.
+//! hand every record to the sinks asked for: the table, the JSON report, JUnit XML, the results
+//! database.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use fragkit::gpu::{AdapterSelector, Gpu};
+use fragkit::harness::database::{Database, DatabaseSink, RunInfo};
 use fragkit::harness::expectations::{BUILT_IN, Expectations};
 use fragkit::harness::junit::JunitSink;
 use fragkit::harness::params::parse_overrides;
@@ -51,6 +53,12 @@ pub struct CheckArgs {
     /// Count flaky cases as failures (exit 1).
     #[arg(long)]
     flaky_fails: bool,
+    /// Record the run in this results database (SQLite file; created where missing).
+    #[arg(long)]
+    db: Option<PathBuf>,
+    /// Tag the recorded run (`fragkit compare tag:NAME …`).
+    #[arg(long, requires = "db")]
+    tag: Option<String>,
 }
 
 /// Fails now, not after the run, when an output file cannot be written.
@@ -77,6 +85,10 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs) -> Result<ExitCode> {
     for path in args.json.iter().chain(&args.junit) {
         check_writable(path)?;
     }
+    if let Some(path) = &args.db {
+        // Open (and migrate) now: a wrong or newer database is refused before the run.
+        Database::open(path)?;
+    }
     let gpu = Gpu::open(selector)?;
     let d = &gpu.description;
     println!("adapter: {} ({}, {} {})", d.name, d.backend, d.driver, d.driver_info);
@@ -99,6 +111,8 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs) -> Result<ExitCode> {
     let mut table = TableSink::new();
     let mut json = args.json.as_deref().map(|path| JsonSink { path });
     let mut junit = args.junit.as_deref().map(|path| JunitSink { path, flaky_fails: args.flaky_fails });
+    let mut database =
+        args.db.clone().map(|path| DatabaseSink { path, info: RunInfo::now(args.tag.clone()), run_id: None });
     let mut sinks: Vec<&mut dyn Sink> = vec![&mut table];
     if let Some(sink) = json.as_mut() {
         sinks.push(sink);
@@ -106,7 +120,13 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs) -> Result<ExitCode> {
     if let Some(sink) = junit.as_mut() {
         sinks.push(sink);
     }
+    if let Some(sink) = database.as_mut() {
+        sinks.push(sink);
+    }
     let report = run(gpu, &runs, &options, &mut sinks)?;
+    if let Some(DatabaseSink { path, run_id: Some(id), .. }) = &database {
+        println!("recorded as run {id} in {}", path.display());
+    }
     let failures = report.failures(args.flaky_fails);
     println!("{} cases: {} unexpected failures", report.cases.len(), failures);
     Ok(if failures == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) })

@@ -4,6 +4,7 @@ pub mod adapters;
 pub mod caps;
 pub mod check;
 pub mod compare;
+pub mod import;
 pub mod list;
 pub mod merge;
 pub mod render;
@@ -52,7 +53,9 @@ pub enum Command {
     },
     /// Run cases (glob patterns; all when none) and exit 1 on any unexpected failure.
     Check(check::CheckArgs),
-    /// Compare two runs' JSON reports case by case (markdown); exit 1 on a regression.
+    /// Record JSON reports written elsewhere in a results database.
+    Import(import::ImportArgs),
+    /// Compare two runs (JSON reports or database runs) case by case (markdown); exit 1 on a regression.
     Compare(compare::CompareArgs),
     /// Join the JSON reports of one run's shards (`check --shard K/N`) into one report.
     Merge(merge::MergeArgs),

@@ -47,36 +47,6 @@ fn key(record: &CaseRecord) -> String {
     if params.is_empty() { record.name.clone() } else { format!("{} [{}]", record.name, params.join(" ")) }
 }
 
-/// Every number in a metric value, flattened to dotted paths (`a.b.0`).
-fn numbers(prefix: &str, value: &serde_json::Value, out: &mut BTreeMap<String, f64>) {
-    match value {
-        serde_json::Value::Number(n) => {
-            if let Some(f) = n.as_f64() {
-                out.insert(prefix.to_owned(), f);
-            }
-        }
-        serde_json::Value::Array(items) => {
-            for (i, item) in items.iter().enumerate() {
-                numbers(&format!("{prefix}.{i}"), item, out);
-            }
-        }
-        serde_json::Value::Object(fields) => {
-            for (k, v) in fields {
-                numbers(&format!("{prefix}.{k}"), v, out);
-            }
-        }
-        _ => {}
-    }
-}
-
-fn flattened(record: &CaseRecord) -> BTreeMap<String, f64> {
-    let mut out = BTreeMap::new();
-    for (name, value) in &record.metrics {
-        numbers(name, value, &mut out);
-    }
-    out
-}
-
 pub fn compare(base: &Report, new: &Report) -> Comparison {
     let index = |report: &Report| -> BTreeMap<String, CaseRecord> {
         report.cases.iter().map(|c| (key(c), c.clone())).collect()
@@ -102,7 +72,7 @@ pub fn compare(base: &Report, new: &Report) -> Comparison {
                 _ => comparison.other_changes.push(change),
             }
         }
-        let (then, current) = (flattened(before), flattened(now));
+        let (then, current) = (before.numeric_metrics(), now.numeric_metrics());
         for (metric, &value) in &current {
             if let Some(&old) = then.get(metric)
                 && old.to_bits() != value.to_bits()

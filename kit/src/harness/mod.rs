@@ -4,6 +4,7 @@
 
 pub mod case;
 pub mod compare;
+pub mod database;
 pub mod expectations;
 pub mod junit;
 pub mod params;

@@ -64,6 +64,38 @@ fn one() -> u32 {
     1
 }
 
+/// Every number (booleans as 0/1) in a metric value, by dotted path (`a.b.0`).
+fn flatten_metric(path: &str, value: &serde_json::Value, out: &mut BTreeMap<String, f64>) {
+    match value {
+        serde_json::Value::Number(n) => out.extend(n.as_f64().map(|f| (path.to_owned(), f))),
+        serde_json::Value::Bool(b) => {
+            out.insert(path.to_owned(), f64::from(u8::from(*b)));
+        }
+        serde_json::Value::Array(items) => {
+            for (i, item) in items.iter().enumerate() {
+                flatten_metric(&format!("{path}.{i}"), item, out);
+            }
+        }
+        serde_json::Value::Object(fields) => {
+            for (k, v) in fields {
+                flatten_metric(&format!("{path}.{k}"), v, out);
+            }
+        }
+        _ => {}
+    }
+}
+
+impl CaseRecord {
+    /// The metrics flattened to numbers, by dotted path.
+    pub fn numeric_metrics(&self) -> BTreeMap<String, f64> {
+        let mut out = BTreeMap::new();
+        for (name, value) in &self.metrics {
+            flatten_metric(name, value, &mut out);
+        }
+        out
+    }
+}
+
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Report {
     pub adapter: AdapterDescription,
