@@ -245,6 +245,13 @@ fn runs_recorded_in_a_database_compare_and_concurrent_writers_both_land() {
     assert_eq!(code, 0, "{text}");
     assert!(text.contains("0 regressions"), "{text}");
 
+    let plot = dir.join("history.png");
+    let (code, text) =
+        fragkit(&["history", "kit.hash.values", "--db", db, "--metric", "wall_ms", "--out", plot.to_str().unwrap()]);
+    assert_eq!(code, 0, "{text}");
+    assert_eq!(text.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| run")).count(), 2, "{text}");
+    assert!(std::fs::read(&plot).unwrap().starts_with(b"\x89PNG"));
+
     // Two processes importing at once: both runs land.
     let report = dir.join("report.json");
     let (code, text) = fragkit(&["check", "kit.hash.values", "--json", report.to_str().unwrap()]);

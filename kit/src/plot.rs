@@ -1,5 +1,5 @@
-//! Error-against-time plots (PNG): one point per measured configuration, one colour per method,
-//! GPU time on x, error on y. Text uses the bundled DejaVu Sans (kit/fonts), so no system fonts
+//! Plots (PNG): error against time (one point per measured configuration, one colour per method,
+//! GPU time on x, error on y) and histories (one line per series over runs, marked points). Text uses the bundled DejaVu Sans (kit/fonts), so no system fonts
 //! are needed.
 
 use std::path::Path;
@@ -73,6 +73,71 @@ pub fn scatter(path: &Path, title: &str, x_label: &str, y_label: &str, points: &
                 .map_err(|e| anyhow!("{e}"))?
                 .label(*name)
                 .legend(move |(x, y)| Circle::new((x, y), 5, colour.filled()));
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(|e| anyhow!("{e}"))?;
+        root.present().map_err(|e| anyhow!("{e}"))?;
+    }
+    let image = image::RgbImage::from_raw(width, height, pixels).context("plot buffer size")?;
+    image.save(path).with_context(|| format!("writing the plot {}", path.display()))
+}
+
+/// One line of a history plot: its points (x, y) and the x of points to mark (a driver change).
+#[derive(Clone, Debug)]
+pub struct PlotLine {
+    pub series: String,
+    pub points: Vec<(f64, f64)>,
+    pub marked: Vec<f64>,
+}
+
+/// Writes a line plot of `lines` to `path` (PNG, 960×640); marked points are drawn as crosses.
+pub fn lines(path: &Path, title: &str, x_label: &str, y_label: &str, lines: &[PlotLine]) -> Result<()> {
+    register_font()?;
+    let all: Vec<(f64, f64)> =
+        lines.iter().flat_map(|l| l.points.iter().copied()).filter(|(x, y)| x.is_finite() && y.is_finite()).collect();
+    let (min_x, max_x) = all.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(x, _)| (a.min(x), b.max(x)));
+    let (min_x, max_x) = if min_x.is_finite() { (min_x - 0.5, max_x + 0.5) } else { (0.0, 1.0) };
+    let max_y = all.iter().map(|&(_, y)| y).fold(0.0, f64::max).max(1e-3) * 1.1;
+    let (width, height) = (960u32, 640u32);
+    let mut pixels = vec![0u8; (width * height * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut pixels, (width, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 24))
+            .margin(16)
+            .x_label_area_size(48)
+            .y_label_area_size(72)
+            .build_cartesian_2d(min_x..max_x, 0.0..max_y)
+            .map_err(|e| anyhow!("{e}"))?;
+        chart
+            .configure_mesh()
+            .x_desc(x_label)
+            .y_desc(y_label)
+            .label_style(("sans-serif", 14))
+            .draw()
+            .map_err(|e| anyhow!("{e}"))?;
+        for (i, line) in lines.iter().enumerate() {
+            let colour = PALETTE[i % PALETTE.len()];
+            let data: Vec<(f64, f64)> =
+                line.points.iter().copied().filter(|(x, y)| x.is_finite() && y.is_finite()).collect();
+            chart
+                .draw_series(LineSeries::new(data.clone(), colour.stroke_width(2)))
+                .map_err(|e| anyhow!("{e}"))?
+                .label(line.series.as_str())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], colour.stroke_width(2)));
+            chart
+                .draw_series(data.iter().map(|&(x, y)| Circle::new((x, y), 3, colour.filled())))
+                .map_err(|e| anyhow!("{e}"))?;
+            let marked = data.iter().filter(|(x, _)| line.marked.contains(x));
+            chart
+                .draw_series(marked.map(|&(x, y)| Cross::new((x, y), 8, BLACK.stroke_width(2))))
+                .map_err(|e| anyhow!("{e}"))?;
         }
         chart
             .configure_series_labels()

@@ -4,6 +4,7 @@ pub mod adapters;
 pub mod caps;
 pub mod check;
 pub mod compare;
+pub mod history;
 pub mod import;
 pub mod list;
 pub mod merge;
@@ -53,6 +54,8 @@ pub enum Command {
     },
     /// Run cases (glob patterns; all when none) and exit 1 on any unexpected failure.
     Check(check::CheckArgs),
+    /// Plot a case's metric over the runs of a results database, one line per adapter.
+    History(history::HistoryArgs),
     /// Record JSON reports written elsewhere in a results database.
     Import(import::ImportArgs),
     /// Compare two runs (JSON reports or database runs) case by case (markdown); exit 1 on a regression.

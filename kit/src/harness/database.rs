@@ -297,10 +297,58 @@ impl Database {
         Ok(Report { adapter, cases })
     }
 
+    /// Per run holding case `case` (oldest first) on an adapter whose "name (backend)" matches
+    /// `adapter` (a glob): the mean of `metric` over its runs of that case — `gpu_ms`, `wall_ms`
+    /// or a flattened metric path such as `foveated.seam_free.seam_error`.
+    pub fn history(&self, case: &str, metric: &str, adapter: &glob::Pattern) -> Result<Vec<HistoryPoint>> {
+        let value = match metric {
+            "gpu_ms" => "avg(c.gpu_ms)",
+            "wall_ms" => "avg(c.wall_ms)",
+            _ => {
+                "(SELECT avg(m.value) FROM metrics m JOIN case_runs c2 ON m.case_run_id = c2.id
+                   WHERE c2.run_id = r.id AND c2.name = ?1 AND m.name = ?2)"
+            }
+        };
+        let sql = format!(
+            "SELECT r.id, r.started_unix, r.adapter, r.backend, r.driver_info, {value}
+             FROM runs r JOIN case_runs c ON c.run_id = r.id
+             WHERE c.name = ?1 GROUP BY r.id ORDER BY r.id"
+        );
+        let mut statement = self.connection.prepare(&sql)?;
+        let bound = if statement.parameter_count() == 2 { params![case, metric] } else { params![case] };
+        let rows = statement.query_map(bound, |r| {
+            Ok(HistoryPoint {
+                run_id: r.get(0)?,
+                started_unix: r.get(1)?,
+                adapter: format!("{} ({})", r.get::<_, String>(2)?, r.get::<_, String>(3)?),
+                driver_info: r.get(4)?,
+                value: r.get(5)?,
+            })
+        })?;
+        let points: Vec<HistoryPoint> =
+            rows.collect::<rusqlite::Result<Vec<_>>>()?.into_iter().filter(|p| adapter.matches(&p.adapter)).collect();
+        if points.is_empty() {
+            bail!("{} holds no run of {case} on an adapter matching {:?}", self.path.display(), adapter.as_str());
+        }
+        Ok(points)
+    }
+
     /// Number of runs recorded.
     pub fn run_count(&self) -> Result<i64> {
         Ok(self.connection.query_row("SELECT count(*) FROM runs", [], |r| r.get(0))?)
     }
+}
+
+/// One run's value in a case's history.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HistoryPoint {
+    pub run_id: i64,
+    pub started_unix: i64,
+    /// "name (backend)".
+    pub adapter: String,
+    pub driver_info: String,
+    /// None where the run did not measure it (no timestamps, no such metric).
+    pub value: Option<f64>,
 }
 
 /// Records the run in the database when it finishes.
