@@ -283,3 +283,10 @@ fn runs_recorded_in_a_database_compare_and_concurrent_writers_both_land() {
     assert_eq!(code, 2, "{text}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_parameter_set_twice_is_an_error() {
+    let (code, text) = fragkit(&["check", "kit.determinism", "--set", "seed=1", "--set", "seed=2"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("--set seed is given twice (\"1\" and \"2\")"), "{text}");
+}

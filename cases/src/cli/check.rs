@@ -53,6 +53,9 @@ pub struct CheckArgs {
     /// Count flaky cases as failures (exit 1).
     #[arg(long)]
     flaky_fails: bool,
+    /// Print every reason whole below the table (the table cuts them to fit 120 columns).
+    #[arg(long, short)]
+    verbose: bool,
     /// Record the run in this results database (SQLite file; created where missing).
     #[arg(long)]
     db: Option<PathBuf>,
@@ -108,7 +111,7 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs) -> Result<ExitCode> {
         reproduce_lines: args.sweep.is_some(),
         retries: args.retry,
     };
-    let mut table = TableSink::new();
+    let mut table = TableSink::new(args.verbose);
     let mut json = args.json.as_deref().map(|path| JsonSink { path });
     let mut junit = args.junit.as_deref().map(|path| JunitSink { path, flaky_fails: args.flaky_fails });
     let mut database =

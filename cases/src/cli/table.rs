@@ -12,38 +12,60 @@ fn key_metric(metrics: &std::collections::BTreeMap<String, serde_json::Value>) -
 fn compact(value: &serde_json::Value) -> String {
     match value {
         serde_json::Value::Number(n) => n.as_f64().map_or(n.to_string(), |f| format!("{f:.3}")),
-        other => {
-            let text = other.to_string();
-            if text.len() > 60 { format!("{}…", &text[..60]) } else { text }
-        }
+        other => cut(&other.to_string(), 60),
     }
 }
 
+/// The table's width: a 120-column terminal. Reasons are cut with `…`; the JSON report and
+/// `--json` keep them whole.
+const WIDTH: usize = 120;
+
+/// `text` cut to `width` characters, `…` marking the cut.
+fn cut(text: &str, width: usize) -> String {
+    if text.chars().count() <= width {
+        return text.to_owned();
+    }
+    let kept: String = text.chars().take(width.saturating_sub(1)).collect();
+    format!("{kept}…")
+}
+
 pub fn print_table(report: &Report) {
-    println!("{:<34} {:<15} {:>9} {:>9}  {:<40} reason", "case", "outcome", "gpu ms", "wall ms", "key metric");
+    // case 34, outcome 15, gpu ms 8, wall ms 8, key metric 16 and the gaps: the reason gets the rest.
+    let reason_width = WIDTH - (34 + 1 + 15 + 1 + 8 + 1 + 8 + 2 + 16 + 1);
+    println!("{:<34} {:<15} {:>8} {:>8}  {:<16} reason", "case", "outcome", "gpu ms", "wall ms", "key metric");
     for c in &report.cases {
         let gpu_ms = c.gpu_ms.map_or("-".into(), |ms| format!("{ms:.2}"));
+        // One line a case: wgpu's multi-line messages are joined.
+        let reason = c.reason.lines().map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join(" / ");
         println!(
-            "{:<34} {:<15} {:>9} {:>9.1}  {:<40} {}",
-            c.name,
+            "{:<34} {:<15} {:>8} {:>8.1}  {:<16} {}",
+            cut(&c.name, 34),
             c.outcome.label(),
             gpu_ms,
             c.wall_ms,
-            key_metric(&c.metrics),
-            // One line a case: wgpu's multi-line messages are joined.
-            c.reason.lines().map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join(" / ")
+            cut(&key_metric(&c.metrics), 16),
+            cut(&reason, reason_width)
         );
+    }
+}
+
+/// Every reason the table cut, whole (`check --verbose`).
+pub fn print_reasons(report: &Report) {
+    for c in report.cases.iter().filter(|c| !c.reason.is_empty()) {
+        println!("\n{} ({}):\n    {}", c.name, c.outcome.label(), c.reason.lines().collect::<Vec<_>>().join("\n    "));
     }
 }
 
 /// Prints the table when the run finishes, with a progress bar while it runs.
 pub struct TableSink {
     progress: indicatif::ProgressBar,
+    /// Also print every reason whole below the table.
+    verbose: bool,
 }
 
 impl TableSink {
-    pub fn new() -> Self {
-        Self { progress: indicatif::ProgressBar::hidden() }
+    pub fn new(verbose: bool) -> Self {
+        Self { progress: indicatif::ProgressBar::hidden(), verbose }
     }
 }
 
@@ -64,6 +86,9 @@ impl Sink for TableSink {
     fn finish(&mut self, report: &Report) -> anyhow::Result<()> {
         self.progress.finish_and_clear();
         print_table(report);
+        if self.verbose {
+            print_reasons(report);
+        }
         Ok(())
     }
 }

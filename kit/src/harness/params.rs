@@ -129,10 +129,13 @@ impl Params {
 
 /// Parses `--set key=value` arguments.
 pub fn parse_overrides(sets: &[String]) -> Result<BTreeMap<String, String>> {
-    sets.iter()
-        .map(|set| {
-            let (key, value) = set.split_once('=').with_context(|| format!("--set {set:?}: expected key=value"))?;
-            Ok((key.trim().to_owned(), value.trim().to_owned()))
-        })
-        .collect()
+    let mut overrides = BTreeMap::new();
+    for set in sets {
+        let (key, value) = set.split_once('=').with_context(|| format!("--set {set:?}: expected key=value"))?;
+        let key = key.trim().to_owned();
+        if let Some(earlier) = overrides.insert(key.clone(), value.trim().to_owned()) {
+            anyhow::bail!("--set {key} is given twice ({earlier:?} and {:?}); give each parameter once", value.trim());
+        }
+    }
+    Ok(overrides)
 }
