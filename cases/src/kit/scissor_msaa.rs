@@ -5,7 +5,7 @@
 use anyhow::{Context, Result};
 use fragkit::attachments;
 use fragkit::caps::common_sample_counts;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::image_compare::{compare, side_by_side};
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 use fragkit::query::OcclusionQueries;
@@ -21,7 +21,10 @@ pub const CASE: Case = Case {
         ParamSpec { name: "scissor", kind: ParamKind::Counts, default: "8,8,20,10", help: "x,y,width,height" },
         ParamSpec { name: "sample_counts", kind: ParamKind::Counts, default: "1,4", help: "sample counts to test" },
     ],
-    sweep: &[],
+    sweep: &[
+        // At least the default scissor (8, 8, 20, 10) must fit.
+        Sweep { param: "size", range: SweepRange::Size { min: (28, 18), max: (400, 300) } },
+    ],
     run,
 };
 

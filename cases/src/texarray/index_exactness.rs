@@ -5,7 +5,7 @@
 //! the lighting fetches lights with — must be exact everywhere.
 
 use anyhow::Result;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::texarray::{FetchVariant, measure_index_exactness, sweep_indices};
 
 pub const CASE: Case = Case {
@@ -18,7 +18,7 @@ pub const CASE: Case = Case {
         default: "4096x4097",
         help: "array texture size (4096x4097 holds 2^24 + 4096 elements)",
     }],
-    sweep: &[],
+    sweep: &[Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (4096, 4097) } }],
     run,
 };
 
