@@ -290,3 +290,17 @@ fn a_parameter_set_twice_is_an_error() {
     assert_eq!(code, 2, "{text}");
     assert!(text.contains("--set seed is given twice (\"1\" and \"2\")"), "{text}");
 }
+
+#[test]
+fn a_parameter_dependent_known_issue_may_pass_away_from_the_defaults_only() {
+    let path = std::env::temp_dir().join(format!("fragkit-may-pass-{}.toml", std::process::id()));
+    let entry = "[[known_issue]]\ncase = \"kit.determinism\"\nreason = \"shows on big screens\"\nmay_pass = \"small screens cannot show it\"\n";
+    std::fs::write(&path, entry).unwrap();
+    let expectations = path.to_str().unwrap();
+    let (code, text) = fragkit(&["check", "kit.determinism", "--expectations", expectations, "--set", "seed=3"]);
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains(" pass ") && text.contains("the listed known issues cannot"), "{text}");
+    let (code, text) = fragkit(&["check", "kit.determinism", "--expectations", expectations]);
+    assert_eq!(code, 1, "at the defaults a pass still means the entry is stale: {text}");
+    std::fs::remove_file(&path).ok();
+}

@@ -28,6 +28,10 @@ pub struct KnownIssue {
     pub failure: Option<String>,
     /// Why it fails, with the measured evidence.
     pub reason: String,
+    /// Where the issue depends on the parameters: why some parameter sets cannot show it. With
+    /// this, a pass away from the defaults (a sweep, `--set`) is a plain pass; at the defaults a
+    /// pass still means the entry is stale.
+    pub may_pass: Option<String>,
 }
 
 #[derive(Clone, Debug, Default, Deserialize)]
