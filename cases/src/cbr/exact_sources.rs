@@ -48,33 +48,39 @@ fn surface(rects: &[PixelRect], x: i64, y: i64, frame: u32) -> Option<usize> {
         .min_by(|&a, &b| rects[a].distance.total_cmp(&rects[b].distance))
 }
 
-/// What the CPU expects of pixel (x, y) in `frame`, or None where the reconstruction cannot know
-/// (a missing pixel whose neighbours show other surfaces).
-fn expected_source(rects: &[PixelRect], screen: (u32, u32), frame: u32, x: i64, y: i64) -> Option<PixelSource> {
+/// What the CPU expects of every pixel (row-major) in `frame`, None where the reconstruction
+/// cannot know (a missing pixel whose neighbours show other surfaces).
+fn expected_sources(rects: &[PixelRect], screen: (u32, u32), frame: u32) -> Vec<Option<PixelSource>> {
     let (now, before) = (sampled_pixels(screen, frame % 2), sampled_pixels(screen, 1 - frame % 2));
     let on_screen = |x: i64, y: i64| (0..i64::from(screen.0)).contains(&x) && (0..i64::from(screen.1)).contains(&y);
     let index = |x: i64, y: i64| (y * i64::from(screen.0) + x) as usize;
-    if now[index(x, y)] {
-        return Some(PixelSource::Current);
-    }
-    let shown = surface(rects, x, y, frame)?;
-    let interior = [(-1, 0), (1, 0), (0, -1), (0, 1)]
-        .iter()
-        .all(|(dx, dy)| on_screen(x + dx, y + dy) && surface(rects, x + dx, y + dy, frame) == Some(shown));
-    if !interior {
-        return None;
-    }
-    let (vx, vy) = rects[shown].velocity;
-    let (bx, by) = (x - i64::from(vx), y - i64::from(vy));
-    Some(if !on_screen(bx, by) {
-        PixelSource::OffScreen
-    } else if !before[index(bx, by)] {
-        if now[index(bx, by)] { PixelSource::JitterCancelled } else { PixelSource::OffScreen }
-    } else if surface(rects, bx, by, frame - 1) != Some(shown) {
-        PixelSource::Disoccluded
-    } else {
-        PixelSource::History
-    })
+    let expected = |x: i64, y: i64| -> Option<PixelSource> {
+        if now[index(x, y)] {
+            return Some(PixelSource::Current);
+        }
+        let shown = surface(rects, x, y, frame)?;
+        let interior = [(-1, 0), (1, 0), (0, -1), (0, 1)]
+            .iter()
+            .all(|(dx, dy)| on_screen(x + dx, y + dy) && surface(rects, x + dx, y + dy, frame) == Some(shown));
+        if !interior {
+            return None;
+        }
+        let (vx, vy) = rects[shown].velocity;
+        let (bx, by) = (x - i64::from(vx), y - i64::from(vy));
+        Some(if !on_screen(bx, by) {
+            PixelSource::OffScreen
+        } else if !before[index(bx, by)] {
+            if now[index(bx, by)] { PixelSource::JitterCancelled } else { PixelSource::OffScreen }
+        } else if surface(rects, bx, by, frame - 1) != Some(shown) {
+            PixelSource::Disoccluded
+        } else {
+            PixelSource::History
+        })
+    };
+    (0..i64::from(screen.1))
+        .flat_map(|y| (0..i64::from(screen.0)).map(move |x| (x, y)))
+        .map(|(x, y)| expected(x, y))
+        .collect()
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
@@ -84,6 +90,12 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let frames = u32::try_from(ctx.params.count("frames")?)?;
     let last = frames - 1;
     let (scene, rects) = crossing_rects(screen);
+    // Expected: the CPU's account of every pixel whose source it can know (the same for both shadings).
+    let expected = expected_sources(&rects, screen, last);
+    let mut tally: BTreeMap<String, u64> = BTreeMap::new();
+    for source in &expected {
+        *tally.entry(source.map_or("edge_unknowable", PixelSource::name).into()).or_default() += 1;
+    }
     let mut problems = Vec::new();
     for shading in Shading::ALL {
         let config = CheckerboardConfig::new(screen, path, shading);
@@ -94,17 +106,11 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let colours = read_hdr(ctx.gpu, &checkerboard.reconstruction.colour)?;
         let sources = read_sources(ctx.gpu, &checkerboard.reconstruction)?;
 
-        // Expected: the CPU's account of every pixel whose source it can know.
-        let mut tally: BTreeMap<String, u64> = BTreeMap::new();
         let mut wrong = Vec::new();
         for y in 0..i64::from(screen.1) {
             for x in 0..i64::from(screen.0) {
                 let i = (y * i64::from(screen.0) + x) as usize;
-                let Some(expected) = expected_source(&rects, screen, last, x, y) else {
-                    *tally.entry("edge_unknowable".into()).or_default() += 1;
-                    continue;
-                };
-                *tally.entry(expected.name().into()).or_default() += 1;
+                let Some(expected) = expected[i] else { continue };
                 if sources[i] != expected {
                     wrong.push(format!("({x}, {y}) {} not {}", sources[i].name(), expected.name()));
                     continue;
