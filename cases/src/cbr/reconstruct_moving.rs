@@ -8,10 +8,10 @@
 use std::collections::BTreeMap;
 
 use anyhow::Result;
-use fragkit::cbr::measure::{measure_against, read_hdr, render_with_reference, source_counts};
+use fragkit::cbr::measure::{SameFrameReferences, measure_against, render_with_reference, source_counts};
 use fragkit::cbr::sampling::{CheckerboardPath, sampled_pixels};
 use fragkit::cbr::scene::{Motion, textured_corridor};
-use fragkit::cbr::{Checkerboard, CheckerboardConfig, Detection, HalfResolutionUpscale, PixelSource, Shading};
+use fragkit::cbr::{CheckerboardConfig, Detection, PixelSource, Shading};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use glam::Vec2;
 
@@ -101,7 +101,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     for (shading, sequence) in Shading::ALL.into_iter().flat_map(|s| SEQUENCES.iter().map(move |q| (s, q))) {
         let scene = textured_corridor(5, lights, sequence.motion);
         let name = format!("{}.{}", shading.name(), sequence.motion.name());
-        let mut psnr = BTreeMap::new();
+        let mut cso = f64::NAN;
         let mut from_history = 0;
         let mut reference = Vec::new();
         let mut cso_evidence = None;
@@ -119,8 +119,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             if frame.passes != frame.planned {
                 problems.push(format!("{key}: ran passes {:?}, the plan lists {:?}", frame.passes, frame.planned));
             }
-            psnr.insert(detection.name(), error.psnr_db);
             if detection == Detection::DEFAULT_CSO {
+                cso = error.psnr_db;
                 from_history = counts["history"];
                 cso_evidence = Some((key.clone(), evidence));
                 reference = frame.reference;
@@ -145,27 +145,17 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 }
             }
         }
-        // References measured in the same run from the same frame: the quarter-resolution render
-        // upscaled, and the checkerboarded frame reconstructed without history.
-        let last = frames - 1;
-        let mut upscale = HalfResolutionUpscale::new(ctx.gpu, &scene, screen)?;
-        upscale.render(ctx.gpu, last)?;
-        let mut alone = Checkerboard::new(ctx.gpu, &scene, CheckerboardConfig::new(screen, path, shading))?;
-        alone.render(ctx.gpu, last)?;
-        let psnr_of = |image: &[f32]| Ok::<_, anyhow::Error>(measure_against(screen, image, &reference, 8)?.0.psnr_db);
-        let upscale_db = psnr_of(&read_hdr(ctx.gpu, &upscale.output)?)?;
-        let alone_db = psnr_of(&read_hdr(ctx.gpu, &alone.reconstruction.colour)?)?;
+        let config = CheckerboardConfig::new(screen, path, shading);
+        let same_frame = SameFrameReferences::measure(ctx.gpu, &scene, config, frames - 1, &reference)?;
+        let (upscale_db, alone_db) = (same_frame.upscale_psnr_db, same_frame.without_history_psnr_db);
         ctx.metric(&format!("{name}.upscale_psnr_db"), upscale_db);
         ctx.metric(&format!("{name}.without_history_psnr_db"), alone_db);
-        let cso = psnr["cso"];
-        // A perfect reconstruction (infinite PSNR) beats everything it ties with.
-        let beats = |other: f64| cso > other || cso == f64::INFINITY;
-        if !beats(upscale_db) {
+        if !SameFrameReferences::beats(cso, upscale_db) {
             problems.push(format!(
                 "{name}: CSO ({cso:.2} dB) does not beat the upscaled quarter resolution ({upscale_db:.2} dB)"
             ));
         }
-        if sequence.history_must_help && from_history > 0 && !beats(alone_db) {
+        if sequence.history_must_help && from_history > 0 && !SameFrameReferences::beats(cso, alone_db) {
             problems.push(format!(
                 "{name}: CSO ({cso:.2} dB) does not beat the same frame without history ({alone_db:.2} dB)"
             ));

@@ -12,11 +12,11 @@
 //! (where the corridor is at least 24 pixels on its short side; see `LOD_CLAIM_MIN_SIDE`).
 
 use anyhow::Result;
-use fragkit::cbr::measure::{measure_against, read_hdr, render_with_reference, source_counts};
+use fragkit::cbr::measure::{SameFrameReferences, measure_against, render_with_reference, source_counts};
 use fragkit::cbr::sampling::{CheckerboardPath, documented_gaps};
 use fragkit::cbr::scene::{Motion, flat_rects, textured_corridor};
 use fragkit::cbr::scene_pass::TextureLod;
-use fragkit::cbr::{Checkerboard, CheckerboardConfig, HalfResolutionUpscale, Shading};
+use fragkit::cbr::{CheckerboardConfig, Shading};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use glam::Vec2;
 
@@ -107,23 +107,22 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 biased_error.psnr_db, error.psnr_db
             ));
         }
-        // References from the same frame: upscaled quarter resolution, and no history.
-        let mut upscale = HalfResolutionUpscale::new(ctx.gpu, &scene, screen)?;
-        upscale.render(ctx.gpu, 1)?;
-        let mut alone = Checkerboard::new(ctx.gpu, &scene, CheckerboardConfig::new(screen, path, shading))?;
-        alone.render(ctx.gpu, 1)?;
-        let psnr_of = |image: &[f32]| -> Result<f64> {
-            Ok(measure_against(screen, image, &frame.reference, DISPLAY_TOLERANCE)?.0.psnr_db)
-        };
+        let same_frame = SameFrameReferences::measure(
+            ctx.gpu,
+            &scene,
+            CheckerboardConfig::new(screen, path, shading),
+            1,
+            &frame.reference,
+        )?;
         let references = [
-            ("the upscaled quarter resolution", psnr_of(&read_hdr(ctx.gpu, &upscale.output)?)?),
-            ("the same frame without history", psnr_of(&read_hdr(ctx.gpu, &alone.reconstruction.colour)?)?),
+            ("the upscaled quarter resolution", same_frame.upscale_psnr_db),
+            ("the same frame without history", same_frame.without_history_psnr_db),
         ];
-        ctx.metric(&format!("{key}.upscale_psnr_db"), references[0].1);
-        ctx.metric(&format!("{key}.without_history_psnr_db"), references[1].1);
+        ctx.metric(&format!("{key}.upscale_psnr_db"), same_frame.upscale_psnr_db);
+        ctx.metric(&format!("{key}.without_history_psnr_db"), same_frame.without_history_psnr_db);
         let beaten: Vec<String> = references
             .iter()
-            .filter(|(_, db)| !(error.psnr_db > *db || error.psnr_db == f64::INFINITY))
+            .filter(|(_, db)| !SameFrameReferences::beats(error.psnr_db, *db))
             .map(|(what, db)| format!("{what} ({db:.2} dB)"))
             .collect();
         if !beaten.is_empty() || error.non_finite_pixels > 0 {

@@ -9,7 +9,7 @@ use image::RgbaImage;
 use serde::Serialize;
 
 use super::reconstruct::{PixelSource, Reconstruction};
-use super::renderer::{Checkerboard, CheckerboardConfig, FullResolutionScene};
+use super::renderer::{Checkerboard, CheckerboardConfig, FullResolutionScene, HalfResolutionUpscale};
 use super::sampling::documented_gaps;
 use super::scene::CheckerboardScene;
 use crate::gpu::Gpu;
@@ -54,6 +54,43 @@ pub fn render_with_reference(
         passes,
         planned: checkerboard.plan().passes(),
     })
+}
+
+/// What a reconstruction of frame `frame` is held to where it cannot match full resolution
+/// exactly: references measured in the same run from the same frame, each as PSNR against the
+/// full-resolution render — the quarter-resolution render upscaled bilinearly (it shades half the
+/// samples checkerboarding does) and the checkerboarded frame reconstructed without history.
+#[derive(Clone, Copy, Debug)]
+pub struct SameFrameReferences {
+    pub upscale_psnr_db: f64,
+    pub without_history_psnr_db: f64,
+}
+
+impl SameFrameReferences {
+    pub fn measure(
+        gpu: &Gpu,
+        scene: &CheckerboardScene,
+        config: CheckerboardConfig,
+        frame: u32,
+        reference: &[f32],
+    ) -> Result<Self> {
+        let mut upscale = HalfResolutionUpscale::new(gpu, scene, config.screen)?;
+        upscale.render(gpu, frame)?;
+        let mut alone = Checkerboard::new(gpu, scene, config)?;
+        alone.render(gpu, frame)?;
+        let psnr_of =
+            |image: &[f32]| -> Result<f64> { Ok(measure_against(config.screen, image, reference, 0)?.0.psnr_db) };
+        Ok(Self {
+            upscale_psnr_db: psnr_of(&read_hdr(gpu, &upscale.output)?)?,
+            without_history_psnr_db: psnr_of(&read_hdr(gpu, &alone.reconstruction.colour)?)?,
+        })
+    }
+
+    /// Whether a reconstruction at `psnr_db` beats a reference at `other` (a perfect one, of
+    /// infinite PSNR, beats what it ties with).
+    pub fn beats(psnr_db: f64, other: f64) -> bool {
+        psnr_db > other || psnr_db == f64::INFINITY
+    }
 }
 
 #[derive(Clone, Debug, Serialize)]
