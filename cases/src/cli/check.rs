@@ -88,10 +88,8 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs) -> Result<ExitCode> {
     for path in args.json.iter().chain(&args.junit) {
         check_writable(path)?;
     }
-    if let Some(path) = &args.db {
-        // Open (and migrate) now: a wrong or newer database is refused before the run.
-        Database::open(path)?;
-    }
+    // Open (and migrate) the database now: a wrong or newer one is refused before the run.
+    let database = args.db.as_deref().map(Database::open).transpose()?;
     let gpu = Gpu::open(selector)?;
     let d = &gpu.description;
     println!("adapter: {} ({}, {} {})", d.name, d.backend, d.driver, d.driver_info);
@@ -115,7 +113,7 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs) -> Result<ExitCode> {
     let mut json = args.json.as_deref().map(|path| JsonSink { path });
     let mut junit = args.junit.as_deref().map(|path| JunitSink { path, flaky_fails: args.flaky_fails });
     let mut database =
-        args.db.clone().map(|path| DatabaseSink { path, info: RunInfo::now(args.tag.clone()), run_id: None });
+        database.map(|database| DatabaseSink { database, info: RunInfo::now(args.tag.clone()), run_id: None });
     let mut sinks: Vec<&mut dyn Sink> = vec![&mut table];
     if let Some(sink) = json.as_mut() {
         sinks.push(sink);
@@ -127,8 +125,8 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs) -> Result<ExitCode> {
         sinks.push(sink);
     }
     let report = run(gpu, &runs, &options, &mut sinks)?;
-    if let Some(DatabaseSink { path, run_id: Some(id), .. }) = &database {
-        println!("recorded as run {id} in {}", path.display());
+    if let Some(DatabaseSink { database, run_id: Some(id), .. }) = &database {
+        println!("recorded as run {id} in {}", database.path().display());
     }
     let failures = report.failures(args.flaky_fails);
     println!("{} cases: {} unexpected failures", report.cases.len(), failures);

@@ -40,16 +40,9 @@ pub struct Comparison {
     pub gpu_time_ratios: Vec<(String, f64)>,
 }
 
-/// A case run's identity: its name and its parameters as the report wrote them.
-fn key(record: &CaseRecord) -> String {
-    let params: Vec<String> =
-        record.params.iter().map(|(k, v)| format!("{k}={}", serde_json::to_string(v).unwrap_or_default())).collect();
-    if params.is_empty() { record.name.clone() } else { format!("{} [{}]", record.name, params.join(" ")) }
-}
-
 pub fn compare(base: &Report, new: &Report) -> Comparison {
     let index = |report: &Report| -> BTreeMap<String, CaseRecord> {
-        report.cases.iter().map(|c| (key(c), c.clone())).collect()
+        report.cases.iter().map(|c| (c.run_name(), c.clone())).collect()
     };
     let (base_cases, new_cases) = (index(base), index(new));
     let mut comparison = Comparison {

@@ -145,6 +145,10 @@ impl Database {
         Ok(database)
     }
 
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
     fn migrate(&mut self) -> Result<()> {
         let what = || format!("the results database {}", self.path.display());
         let transaction = self
@@ -332,11 +336,6 @@ impl Database {
         }
         Ok(points)
     }
-
-    /// Number of runs recorded.
-    pub fn run_count(&self) -> Result<i64> {
-        Ok(self.connection.query_row("SELECT count(*) FROM runs", [], |r| r.get(0))?)
-    }
 }
 
 /// One run's value in a case's history.
@@ -351,16 +350,16 @@ pub struct HistoryPoint {
     pub value: Option<f64>,
 }
 
-/// Records the run in the database when it finishes.
+/// Records the run in the database (opened, and so checked, before the run) when it finishes.
 pub struct DatabaseSink {
-    pub path: PathBuf,
+    pub database: Database,
     pub info: RunInfo,
     pub run_id: Option<i64>,
 }
 
 impl super::run::Sink for DatabaseSink {
     fn finish(&mut self, report: &Report) -> Result<()> {
-        self.run_id = Some(Database::open(&self.path)?.record(report, &self.info)?);
+        self.run_id = Some(self.database.record(report, &self.info)?);
         Ok(())
     }
 }

@@ -8,9 +8,9 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 
-use super::report::{CaseRecord, Report, ReportedOutcome};
+use super::report::{CaseRecord, Report, ReportedOutcome, write_through_temporary};
 use super::run::Sink;
 
 /// Escapes text for an XML attribute or element (and drops the control characters XML 1.0 forbids).
@@ -39,12 +39,7 @@ fn classname(name: &str) -> &str {
 /// A test name unique within the report: the case name, with its parameters where the case ran
 /// more than once (a sweep).
 fn test_name(record: &CaseRecord, runs_of_case: usize) -> String {
-    if runs_of_case <= 1 {
-        return record.name.clone();
-    }
-    let params: Vec<String> =
-        record.params.iter().map(|(k, v)| format!("{k}={}", serde_json::to_string(v).unwrap_or_default())).collect();
-    format!("{} [{}]", record.name, params.join(" "))
+    if runs_of_case <= 1 { record.name.clone() } else { record.run_name() }
 }
 
 /// The JUnit XML of `report`.
@@ -135,11 +130,7 @@ impl Sink for JunitSink<'_> {
 
 /// Writes `report` as JUnit XML to `path` through a temporary file and a rename.
 pub fn write_junit(report: &Report, path: &Path, flaky_fails: bool) -> Result<()> {
-    let temporary = path.with_extension("xml.tmp");
-    std::fs::write(&temporary, to_junit(report, flaky_fails))
-        .with_context(|| format!("writing {}", temporary.display()))?;
-    std::fs::rename(&temporary, path)
-        .with_context(|| format!("moving the JUnit report into place at {}", path.display()))
+    write_through_temporary(path, &to_junit(report, flaky_fails))
 }
 
 #[cfg(test)]

@@ -86,6 +86,13 @@ fn flatten_metric(path: &str, value: &serde_json::Value, out: &mut BTreeMap<Stri
 }
 
 impl CaseRecord {
+    /// The case run's name: the case's, followed by its parameters (`name [k=v …]`) where it has any.
+    pub fn run_name(&self) -> String {
+        let params: Vec<String> =
+            self.params.iter().map(|(k, v)| format!("{k}={}", serde_json::to_string(v).unwrap_or_default())).collect();
+        if params.is_empty() { self.name.clone() } else { format!("{} [{}]", self.name, params.join(" ")) }
+    }
+
     /// The metrics flattened to numbers, by dotted path.
     pub fn numeric_metrics(&self) -> BTreeMap<String, f64> {
         let mut out = BTreeMap::new();
@@ -154,9 +161,16 @@ impl Report {
     /// Writes the report through a temporary file and a rename, so that an interrupted run never
     /// leaves a half-written report behind.
     pub fn write_atomically(&self, path: &Path) -> Result<()> {
-        let text = serde_json::to_string_pretty(self).context("serialising the report")?;
-        let temporary = path.with_extension("json.tmp");
-        std::fs::write(&temporary, text).with_context(|| format!("writing {}", temporary.display()))?;
-        std::fs::rename(&temporary, path).with_context(|| format!("moving the report into place at {}", path.display()))
+        write_through_temporary(path, &serde_json::to_string_pretty(self).context("serialising the report")?)
     }
+}
+
+/// Writes `text` to `path` through a temporary file beside it and a rename, so that an interrupted
+/// run never leaves a half-written file behind.
+pub fn write_through_temporary(path: &Path, text: &str) -> Result<()> {
+    let mut temporary = path.as_os_str().to_owned();
+    temporary.push(".tmp");
+    let temporary = PathBuf::from(temporary);
+    std::fs::write(&temporary, text).with_context(|| format!("writing {}", temporary.display()))?;
+    std::fs::rename(&temporary, path).with_context(|| format!("moving {} into place", path.display()))
 }
