@@ -4,7 +4,11 @@
 
 mod support;
 
+use std::collections::BTreeMap;
+
+use fragkit::harness::Case;
 use fragkit::harness::params::Params;
+use fragkit::harness::run::plan_runs;
 use fragkit::harness::sweep::{draw, reproduce_line};
 
 /// Sets per case: enough to leave the defaults on every run, few enough for the suite's budget.
@@ -34,15 +38,14 @@ fn every_declared_range_lies_inside_its_parameter() {
 #[test]
 fn drawn_parameter_sets_hold() {
     let mut failures = Vec::new();
-    for case in fragkit_cases::ALL.iter().filter(|c| !c.sweep.is_empty()) {
-        for index in 0..DRAWS {
-            let drawn = draw(case, SEED, index);
-            let (record, _) = support::run_with(case, &drawn);
-            let reproduce = reproduce_line(case, &drawn);
-            eprintln!("{:<14} {reproduce}", record.outcome.label());
-            if record.outcome.is_failure(false) {
-                failures.push(format!("{}: {}\n  reproduce: {reproduce}", case.name, record.reason));
-            }
+    // The runs `fragkit check --sweep DRAWS --seed SEED` plans for the cases with ranges.
+    let swept: Vec<&Case> = fragkit_cases::ALL.iter().filter(|c| !c.sweep.is_empty()).collect();
+    for run in plan_runs(&swept, &BTreeMap::new(), Some((DRAWS, SEED))) {
+        let (record, _) = support::run_with(run.case, &run.overrides);
+        let reproduce = reproduce_line(run.case, &run.overrides);
+        eprintln!("{:<14} {reproduce}", record.outcome.label());
+        if record.outcome.is_failure(false) {
+            failures.push(format!("{}: {}\n  reproduce: {reproduce}", run.case.name, record.reason));
         }
     }
     assert!(failures.is_empty(), "{} drawn parameter sets failed:\n{}", failures.len(), failures.join("\n"));

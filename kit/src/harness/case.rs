@@ -33,6 +33,21 @@ pub struct Case {
     pub run: fn(&mut Ctx) -> Result<Outcome>,
 }
 
+#[cfg(test)]
+impl Case {
+    /// A parameterless case that passes: for the harness's own tests.
+    pub(crate) fn passing(name: &'static str) -> Self {
+        Self {
+            name,
+            summary: "",
+            requires: wgpu::Features::empty(),
+            params: &[],
+            sweep: &[],
+            run: |_| Ok(Outcome::Pass),
+        }
+    }
+}
+
 /// What a running case can use and record.
 pub struct Ctx<'a> {
     pub gpu: &'a Gpu,

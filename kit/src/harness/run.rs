@@ -164,22 +164,10 @@ impl Sink for JsonSink<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::harness::Outcome;
-
-    fn case(name: &'static str) -> Case {
-        Case {
-            name,
-            summary: "",
-            requires: wgpu::Features::empty(),
-            params: &[],
-            sweep: &[],
-            run: |_| Ok(Outcome::Pass),
-        }
-    }
 
     #[test]
     fn shards_together_run_every_case_once() {
-        let cases = [case("a"), case("b"), case("c"), case("d"), case("e")];
+        let cases = ["a", "b", "c", "d", "e"].map(Case::passing);
         let selected: Vec<&Case> = cases.iter().collect();
         let runs = plan_runs(&selected, &BTreeMap::new(), None);
         let mut seen: Vec<&str> = (1..=3)

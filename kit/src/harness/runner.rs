@@ -192,20 +192,9 @@ pub fn run_case(
 mod tests {
     use super::*;
 
-    fn case(name: &'static str) -> Case {
-        Case {
-            name,
-            summary: "",
-            requires: wgpu::Features::empty(),
-            params: &[],
-            sweep: &[],
-            run: |_| Ok(Outcome::Pass),
-        }
-    }
-
     #[test]
     fn opt_in_cases_run_only_when_a_pattern_with_their_prefix_names_them() {
-        let cases = [case("kit.a"), case("fault.b"), case("soak.c")];
+        let cases = ["kit.a", "fault.b", "soak.c"].map(Case::passing);
         let names = |patterns: &[&str]| -> Vec<&str> {
             let patterns: Vec<String> = patterns.iter().map(|p| p.to_string()).collect();
             select(&cases, &patterns).map(|s| s.iter().map(|c| c.name).collect()).unwrap_or_default()
