@@ -5,10 +5,8 @@
 use anyhow::{Context, Result, ensure};
 use serde::Serialize;
 
-use crate::attachments;
-use crate::fullscreen::{FullscreenPipeline, bind_group, uniform_buffer};
+use crate::fullscreen::{FullscreenPipeline, bind_group, render_to_readback, uniform_buffer};
 use crate::gpu::Gpu;
-use crate::readback::read_texture;
 use crate::shaders;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -130,30 +128,17 @@ pub fn measure_index_exactness(gpu: &Gpu, size: (u32, u32), indices: &[u32]) -> 
                         wgpu::BindingResource::TextureView(&index_view),
                     ],
                 );
-                let result = gpu.texture(
-                    "fetched",
-                    (LIST_WIDTH, rows),
+                let result = render_to_readback(
+                    gpu,
+                    "texture-array fetch",
+                    &pipeline,
+                    &group,
                     wgpu::TextureFormat::R32Uint,
-                    1,
-                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                );
-                let view = result.create_view(&Default::default());
-                let mut encoder = gpu.encoder("texture-array fetch");
-                {
-                    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some("texture-array fetch"),
-                        color_attachments: &[attachments::colour(&view, None, wgpu::Color::TRANSPARENT)],
-                        ..Default::default()
-                    });
-                    pass.set_pipeline(&pipeline);
-                    pass.set_bind_group(0, &group, &[]);
-                    pass.draw(0..3, 0..1);
-                }
-                gpu.submit(encoder);
-                let fetched: Vec<u32> =
-                    bytemuck::cast_slice(&read_texture(gpu, &result, wgpu::TextureAspect::All, 0)?.bytes).to_vec();
+                    (LIST_WIDTH, rows),
+                )?;
+                let fetched: &[u32] = bytemuck::cast_slice(&result.bytes);
                 let wrong: Vec<(u32, u32)> =
-                    indices.iter().zip(&fetched).filter(|(k, f)| k != f).map(|(&k, &f)| (k, f)).collect();
+                    indices.iter().zip(fetched).filter(|(k, f)| k != f).map(|(&k, &f)| (k, f)).collect();
                 Ok(VariantResult { variant, wrong: wrong.len(), first_wrong: wrong.first().copied() })
             })
             .collect::<Result<Vec<_>>>()
