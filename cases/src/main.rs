@@ -31,6 +31,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::List { pattern } => cli::list::list(pattern)?,
         Command::Render { technique } => cli::render::render(&selector, technique)?,
         Command::Report { technique } => cli::report::report(&selector, technique)?,
+        Command::Bench(args) => cli::bench::bench(&selector, args)?,
         Command::Check(args) => return cli::check::check(&selector, args),
         Command::Merge(args) => return cli::merge::merge(args),
         Command::Compare(args) => return cli::compare::compare_reports(args),

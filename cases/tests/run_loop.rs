@@ -56,7 +56,8 @@ impl Sink for Collect {
 fn retries_report_flaky_cases_and_keep_failing_ones_failed() {
     let gpu = Gpu::open(&AdapterSelector::default()).unwrap_or_else(|e| panic!("{e:#}"));
     let expectations = Expectations::parse(BUILT_IN, "built in").unwrap();
-    let options = RunOptions { expectations: &expectations, evidence_dir: None, reproduce_lines: false, retries: 2 };
+    let options =
+        RunOptions { expectations: &expectations, evidence_dir: None, reproduce_lines: false, retries: 2, repeats: 1 };
     let runs = [&FLAKY, &BROKEN].map(|case| CaseRun { case, overrides: Default::default() });
     let (mut first, mut second) = (Collect::default(), Collect::default());
     let report = run(gpu, &runs, &options, &mut [&mut first, &mut second]).unwrap();

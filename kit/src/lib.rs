@@ -4,6 +4,7 @@
 //! the exact expectations they are compared with.
 
 pub mod attachments;
+pub mod bench;
 pub mod caps;
 pub mod cbr;
 pub mod cps;

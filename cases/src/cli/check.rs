@@ -50,15 +50,20 @@ pub struct CheckArgs {
     /// Run a failed case again up to N times; one that then passes is reported `flaky`.
     #[arg(long, value_name = "N", default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=100))]
     retry: u32,
+    /// Run each case N times and record every run's GPU time (the median is reported), so that
+    /// `fragkit compare` judges a time change against the noise.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    repeat: u32,
     /// Count flaky cases as failures (exit 1).
     #[arg(long)]
     flaky_fails: bool,
     /// Print every reason whole below the table (the table cuts them to fit 120 columns).
     #[arg(long, short)]
     verbose: bool,
-    /// Record the run in this results database (SQLite file; created where missing).
+    /// Record the run in this results database: an SQLite file (created where missing) or a
+    /// postgres:// URL.
     #[arg(long)]
-    db: Option<PathBuf>,
+    db: Option<String>,
     /// Tag the recorded run (`fragkit compare tag:NAME …`).
     #[arg(long, requires = "db")]
     tag: Option<String>,
@@ -108,6 +113,7 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs) -> Result<ExitCode> {
         evidence_dir: args.out.as_deref(),
         reproduce_lines: args.sweep.is_some(),
         retries: args.retry,
+        repeats: args.repeat,
     };
     let mut table = TableSink::new(args.verbose);
     let mut json = args.json.as_deref().map(|path| JsonSink { path });
@@ -126,7 +132,7 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs) -> Result<ExitCode> {
     }
     let report = run(gpu, &runs, &options, &mut sinks)?;
     if let Some(DatabaseSink { database, run_id: Some(id), .. }) = &database {
-        println!("recorded as run {id} in {}", database.path().display());
+        println!("recorded as run {id} in {}", database.location());
     }
     let failures = report.failures(args.flaky_fails);
     println!("{} cases: {} unexpected failures", report.cases.len(), failures);

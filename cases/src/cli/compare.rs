@@ -1,56 +1,80 @@
 //! `fragkit compare BASE NEW`: two runs (JSON reports, or runs of a results database: an id,
-//! `latest`, `latest~N`, `tag:NAME`) compared case by case — regressions, fixes,
-//! other outcome changes, metric changes, GPU-time ratios — as markdown (stdout, or `--markdown`
-//! for a merge-request comment); exit 1 when the new run fails a case the base run did not.
+//! `latest`, `latest~N`, `latest@GLOB`, `tag:NAME`) compared case by case — regressions, fixes,
+//! other outcome changes, metric changes, GPU-time changes judged against the noise — as markdown
+//! (stdout, or `--markdown` for a merge-request comment); exit 1 when the new run fails a case
+//! the base run did not, or is slower beyond the threshold and the noise.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
-use fragkit::harness::compare::compare;
+use fragkit::harness::compare::{TimeJudgement, compare};
 use fragkit::harness::database::{Database, RunRef};
 use fragkit::harness::report::Report;
 
 #[derive(clap::Args)]
 pub struct CompareArgs {
-    /// The base run: a JSON report, or with --db a run id, latest, latest~N or tag:NAME.
+    /// The base run: a JSON report, or with --db a run id, latest, latest~N, latest@GLOB or
+    /// tag:NAME.
     base: String,
     /// The new run, spelled likewise.
     new: String,
-    /// The results database the runs are in.
+    /// The results database the runs are in (an SQLite file or a postgres:// URL); its earlier
+    /// runs on the new run's adapter also give the noise a single GPU time is judged against.
     #[arg(long)]
-    db: Option<PathBuf>,
+    db: Option<String>,
     /// Also write the markdown here.
     #[arg(long)]
     markdown: Option<PathBuf>,
+    /// Smallest relative GPU-time change that counts as a regression (0.05: 5 % slower).
+    #[arg(long, default_value_t = 0.05, value_parser = fraction)]
+    threshold: f64,
+    /// Largest Mann–Whitney p-value, between two runs' repeats, that counts as beyond the noise.
+    #[arg(long, default_value_t = 0.01, value_parser = fraction)]
+    alpha: f64,
 }
 
-/// A run named on the command line: a JSON report's path, else a run of the database.
-fn load(which: &str, db: Option<&Database>) -> Result<Report> {
+fn fraction(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if v > 0.0 && v < 1.0 => Ok(v),
+        _ => Err(format!("{text:?}: expected a number between 0 and 1")),
+    }
+}
+
+/// A run named on the command line: a JSON report's path, else a run of the database (with its
+/// id, which bounds the history it is judged against).
+fn load(which: &str, db: Option<&mut Database>) -> Result<(Report, Option<i64>)> {
     let path = std::path::Path::new(which);
     if path.is_file() {
-        return Report::read(path);
+        return Ok((Report::read(path)?, None));
     }
     let Some(db) = db else {
-        anyhow::bail!("{which:?} is no report file; to name a run of a results database, give --db PATH");
+        anyhow::bail!("{which:?} is no report file; to name a run of a results database, give --db PATH|URL");
     };
-    db.load(db.resolve(&RunRef::parse(which)?)?)
+    let id = db.resolve(&RunRef::parse(which)?)?;
+    Ok((db.load(id)?, Some(id)))
 }
 
 pub fn compare_reports(args: CompareArgs) -> Result<ExitCode> {
-    let db = args.db.as_deref().map(Database::open).transpose()?;
-    let (base, new) = (load(&args.base, db.as_ref())?, load(&args.new, db.as_ref())?);
+    let mut db = args.db.as_deref().map(Database::open).transpose()?;
+    let (base, _) = load(&args.base, db.as_mut())?;
+    let (new, new_id) = load(&args.new, db.as_mut())?;
     if base.adapter != new.adapter {
         eprintln!(
             "note: the runs are on different adapters ({} {} / {} {}); outcomes still compare case by case",
             base.adapter.name, base.adapter.backend, new.adapter.name, new.adapter.backend
         );
     }
-    let comparison = compare(&base, &new);
+    let history = match db.as_mut() {
+        Some(db) => db.gpu_history(&new.adapter, new_id)?,
+        None => Default::default(),
+    };
+    let judgement = TimeJudgement { threshold: args.threshold, alpha: args.alpha, ..Default::default() };
+    let comparison = compare(&base, &new, &judgement, &history);
     let markdown = comparison.markdown(&args.base, &args.new);
     print!("{markdown}");
     if let Some(path) = &args.markdown {
         std::fs::write(path, &markdown).with_context(|| format!("writing {}", path.display()))?;
     }
-    Ok(if comparison.regressions.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
+    Ok(if comparison.regressed() { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }

@@ -14,7 +14,7 @@ pub struct HistoryArgs {
     case: String,
     /// The results database.
     #[arg(long)]
-    db: PathBuf,
+    db: String,
     /// gpu_ms, wall_ms, or a metric path as the database flattens it (e.g. foveated.seam_free.seam_error).
     #[arg(long, default_value = "gpu_ms")]
     metric: String,
@@ -28,7 +28,7 @@ pub struct HistoryArgs {
 
 pub fn history(args: HistoryArgs) -> Result<()> {
     let adapter = glob::Pattern::new(&args.adapter).with_context(|| format!("--adapter {:?}", args.adapter))?;
-    let db = Database::open(&args.db)?;
+    let mut db = Database::open(&args.db)?;
     let points = db.history(&args.case, &args.metric, &adapter)?;
     println!("| run | adapter | driver | {} |\n|---|---|---|---|", args.metric);
     let mut plotted: Vec<PlotLine> = Vec::new();

@@ -14,7 +14,7 @@ pub struct ImportArgs {
     reports: Vec<PathBuf>,
     /// The results database (SQLite file; created where missing).
     #[arg(long)]
-    db: PathBuf,
+    db: String,
     /// Tag the recorded runs.
     #[arg(long)]
     tag: Option<String>,

@@ -1,6 +1,7 @@
 //! The `fragkit` command line: the argument definitions, and one file per subcommand.
 
 pub mod adapters;
+pub mod bench;
 pub mod caps;
 pub mod check;
 pub mod compare;
@@ -52,6 +53,9 @@ pub enum Command {
         #[command(subcommand)]
         technique: report::ReportTechnique,
     },
+    /// Time each technique against its baseline in rounds (speed-ups, where the time goes);
+    /// record them with --db.
+    Bench(bench::BenchArgs),
     /// Run cases (glob patterns; all when none) and exit 1 on any unexpected failure.
     Check(check::CheckArgs),
     /// Plot a case's metric over the runs of a results database, one line per adapter.

@@ -1,10 +1,13 @@
 //! Two runs of the kit compared case by case (a case run is its name and parameters): new
 //! failures, fixes, other outcome changes, cases only one run has, numeric metrics that changed,
-//! and the GPU time's ratio. Written as markdown for a merge-request comment.
+//! and GPU-time changes judged against the noise — the repeats of both runs where they have them
+//! (Mann–Whitney U), else the spread of earlier runs of the case on the adapter. Written as
+//! markdown for a merge-request comment.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
+use super::noise::{mann_whitney_p, median_and_spread};
 use super::report::{CaseRecord, Report, ReportedOutcome};
 
 /// One case run present in both reports whose outcome differs.
@@ -25,6 +28,91 @@ pub struct MetricChange {
     pub new: f64,
 }
 
+/// What a GPU-time change was judged against.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TimeEvidence {
+    /// Both runs' repeats: the Mann–Whitney p-value.
+    Repeats { p: f64, base_runs: usize, new_runs: usize },
+    /// Earlier runs of the case on the adapter: their median and spread (scaled MAD), and how
+    /// many spreads the new time lies from that median.
+    History { runs: usize, median_ms: f64, spread_ms: f64, spreads: f64 },
+    /// One time on each side and no history: a ratio, not a judgement.
+    Unjudged,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct TimeChange {
+    pub case: String,
+    pub base_ms: f64,
+    pub new_ms: f64,
+    pub evidence: TimeEvidence,
+    /// Slower beyond the threshold and beyond the noise.
+    pub regression: bool,
+    /// Faster beyond the threshold and beyond the noise.
+    pub improvement: bool,
+}
+
+impl TimeChange {
+    pub fn ratio(&self) -> f64 {
+        self.new_ms / self.base_ms
+    }
+}
+
+/// How GPU-time changes are judged.
+#[derive(Clone, Copy, Debug)]
+pub struct TimeJudgement {
+    /// Smallest relative change that counts (0.05: 5 % slower or faster).
+    pub threshold: f64,
+    /// Largest Mann–Whitney p-value that counts as beyond the noise.
+    pub alpha: f64,
+    /// Against history: spreads (scaled MADs) from the history's median that count.
+    pub spreads: f64,
+}
+
+impl Default for TimeJudgement {
+    fn default() -> Self {
+        Self { threshold: 0.05, alpha: 0.01, spreads: 3.0 }
+    }
+}
+
+/// Repeats a comparison needs on each side before it judges by them.
+const MIN_REPEATS: usize = 3;
+/// Earlier runs a history needs before it judges by it.
+const MIN_HISTORY: usize = 3;
+
+impl TimeJudgement {
+    /// Judges `base` → `new` for one case run; `history` holds earlier runs' GPU times of it on
+    /// the new run's adapter.
+    fn judge(&self, case: &str, base: &CaseRecord, new: &CaseRecord, history: &[f64]) -> Option<TimeChange> {
+        let (base_ms, new_ms) = (base.gpu_ms?, new.gpu_ms?);
+        if base_ms <= 0.0 || new_ms <= 0.0 {
+            return None;
+        }
+        let ratio = new_ms / base_ms;
+        let (slower, faster) = (ratio > 1.0 + self.threshold, ratio < 1.0 / (1.0 + self.threshold));
+        let (base_runs, new_runs) = (base.gpu_ms_repeats.len(), new.gpu_ms_repeats.len());
+        let (evidence, beyond_noise) = if base_runs >= MIN_REPEATS && new_runs >= MIN_REPEATS {
+            let p = mann_whitney_p(&base.gpu_ms_repeats, &new.gpu_ms_repeats);
+            (TimeEvidence::Repeats { p, base_runs, new_runs }, p < self.alpha)
+        } else if history.len() >= MIN_HISTORY {
+            let (median_ms, spread_ms) = median_and_spread(history);
+            let spreads = if spread_ms > 0.0 { (new_ms - median_ms) / spread_ms } else { f64::INFINITY };
+            let beyond = (new_ms - median_ms).abs() > self.spreads * spread_ms;
+            (TimeEvidence::History { runs: history.len(), median_ms, spread_ms, spreads }, beyond)
+        } else {
+            (TimeEvidence::Unjudged, false)
+        };
+        Some(TimeChange {
+            case: case.to_owned(),
+            base_ms,
+            new_ms,
+            evidence,
+            regression: slower && beyond_noise,
+            improvement: faster && beyond_noise,
+        })
+    }
+}
+
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Comparison {
     /// Passing (or not failing) in the base run, failing in the new one.
@@ -36,11 +124,25 @@ pub struct Comparison {
     pub only_in_base: Vec<String>,
     pub only_in_new: Vec<String>,
     pub metric_changes: Vec<MetricChange>,
-    /// Per case run in both with GPU times: new / base.
-    pub gpu_time_ratios: Vec<(String, f64)>,
+    /// Per case run in both with GPU times: the change and its judgement.
+    pub time_changes: Vec<TimeChange>,
 }
 
-pub fn compare(base: &Report, new: &Report) -> Comparison {
+impl Comparison {
+    /// Whether the new run is worse: a new failure, or a GPU time slower beyond the noise.
+    pub fn regressed(&self) -> bool {
+        !self.regressions.is_empty() || self.time_changes.iter().any(|t| t.regression)
+    }
+}
+
+/// Compares `new` against `base`. `history` maps a case run (`CaseRecord::run_name`) to GPU
+/// times of earlier runs of it on the new run's adapter (empty where there is no database).
+pub fn compare(
+    base: &Report,
+    new: &Report,
+    judgement: &TimeJudgement,
+    history: &BTreeMap<String, Vec<f64>>,
+) -> Comparison {
     let index = |report: &Report| -> BTreeMap<String, CaseRecord> {
         report.cases.iter().map(|c| (c.run_name(), c.clone())).collect()
     };
@@ -78,11 +180,8 @@ pub fn compare(base: &Report, new: &Report) -> Comparison {
                 });
             }
         }
-        if let (Some(a), Some(b)) = (before.gpu_ms, now.gpu_ms)
-            && a > 0.0
-        {
-            comparison.gpu_time_ratios.push((case.clone(), b / a));
-        }
+        let earlier = history.get(case).map_or(&[][..], Vec::as_slice);
+        comparison.time_changes.extend(judgement.judge(case, before, now, earlier));
     }
     comparison
 }
@@ -131,18 +230,61 @@ impl Comparison {
             }
             md.push('\n');
         }
-        if !self.gpu_time_ratios.is_empty() {
-            let mut ratios: Vec<&(String, f64)> = self.gpu_time_ratios.iter().collect();
-            ratios.sort_by(|a, b| b.1.total_cmp(&a.1));
+        self.time_markdown(&mut md);
+        md
+    }
+
+    fn time_markdown(&self, md: &mut String) {
+        if self.time_changes.is_empty() {
+            return;
+        }
+        let judged = |t: &&TimeChange| t.evidence != TimeEvidence::Unjudged;
+        let _ = writeln!(
+            md,
+            "### GPU time\n\n{} case runs timed in both: {} slower and {} faster beyond the threshold and the noise; {} judged, {} with one time each and no history (run `check --repeat N`, or record runs in a database).\n",
+            self.time_changes.len(),
+            self.time_changes.iter().filter(|t| t.regression).count(),
+            self.time_changes.iter().filter(|t| t.improvement).count(),
+            self.time_changes.iter().filter(judged).count(),
+            self.time_changes.iter().filter(|t| !judged(t)).count(),
+        );
+        let mut shown: Vec<&TimeChange> = self.time_changes.iter().filter(|t| t.regression || t.improvement).collect();
+        shown.sort_by(|a, b| b.ratio().total_cmp(&a.ratio()));
+        if shown.is_empty() {
+            // Nothing beyond the noise: the largest ratios, for a person to look at.
+            shown = self.time_changes.iter().collect();
+            shown.sort_by(|a, b| (b.ratio().ln().abs()).total_cmp(&a.ratio().ln().abs()));
+            shown.truncate(5);
+        }
+        let _ =
+            writeln!(md, "| case | base ms | new ms | new / base | judged by | verdict |\n|---|---|---|---|---|---|");
+        for t in shown {
+            let judged_by = match &t.evidence {
+                TimeEvidence::Repeats { p, base_runs, new_runs } => {
+                    format!("{base_runs} vs {new_runs} repeats, Mann–Whitney p = {p:.2e}")
+                }
+                TimeEvidence::History { runs, median_ms, spread_ms, spreads } => {
+                    format!("{runs} earlier runs: median {median_ms:.3} ms ± {spread_ms:.3}, {spreads:+.1} spreads")
+                }
+                TimeEvidence::Unjudged => "one time each".to_owned(),
+            };
+            let verdict = if t.regression {
+                "**slower**"
+            } else if t.improvement {
+                "faster"
+            } else {
+                "within noise"
+            };
             let _ = writeln!(
                 md,
-                "### GPU time, new / base (one run each: a ratio, not a judgement against noise)\n\n| case | ratio |\n|---|---|"
+                "| `{}` | {:.3} | {:.3} | {:.3} | {judged_by} | {verdict} |",
+                t.case,
+                t.base_ms,
+                t.new_ms,
+                t.ratio()
             );
-            for (case, ratio) in ratios.iter().take(10) {
-                let _ = writeln!(md, "| `{case}` | {ratio:.2} |");
-            }
         }
-        md
+        md.push('\n');
     }
 }
 
@@ -159,6 +301,7 @@ mod tests {
             params: BTreeMap::new(),
             metrics: [("m".to_owned(), serde_json::json!({"x": metric, "list": [1, 2]}))].into(),
             gpu_ms: Some(2.0),
+            gpu_ms_repeats: Vec::new(),
             wall_ms: 1.0,
             evidence: Vec::new(),
             attempts: 1,
@@ -184,7 +327,7 @@ mod tests {
             record("c", NotSupported, 3.0),
             record("added", Pass, 1.0),
         ]);
-        let c = compare(&base, &new);
+        let c = compare(&base, &new, &TimeJudgement::default(), &BTreeMap::new());
         assert_eq!(c.regressions.iter().map(|r| r.case.as_str()).collect::<Vec<_>>(), ["a"]);
         assert_eq!(c.fixes.iter().map(|r| r.case.as_str()).collect::<Vec<_>>(), ["b"]);
         assert_eq!(c.other_changes.iter().map(|r| r.case.as_str()).collect::<Vec<_>>(), ["c"]);
@@ -194,6 +337,50 @@ mod tests {
             (&["gone".to_owned()][..], &["added".to_owned()][..])
         );
         assert!(c.markdown("base", "new").contains("| `a` | pass | FAIL | why |"));
-        assert_eq!(compare(&base, &base).regressions.len(), 0);
+        assert_eq!(compare(&base, &base, &TimeJudgement::default(), &BTreeMap::new()).regressions.len(), 0);
+    }
+
+    fn timed(repeats: &[f64]) -> CaseRecord {
+        CaseRecord {
+            gpu_ms: Some(crate::query::median(repeats.to_vec())),
+            gpu_ms_repeats: if repeats.len() > 1 { repeats.to_vec() } else { Vec::new() },
+            ..record("t", ReportedOutcome::Pass, 1.0)
+        }
+    }
+
+    fn judge(base: &[f64], new: &[f64], history: &[f64]) -> TimeChange {
+        let history = BTreeMap::from([("t".to_owned(), history.to_vec())]);
+        let c = compare(&report(vec![timed(base)]), &report(vec![timed(new)]), &TimeJudgement::default(), &history);
+        c.time_changes[0].clone()
+    }
+
+    #[test]
+    fn time_changes_count_only_beyond_the_threshold_and_the_noise() {
+        let base = [10.0, 10.4, 9.7, 10.1, 9.9, 10.2, 10.0];
+        // 20 % slower on every repeat: a regression.
+        let slower: Vec<f64> = base.iter().map(|t| t * 1.2).collect();
+        assert!(judge(&base, &slower, &[]).regression);
+        // 20 % slower in the median, but as noisy as that: not judged a regression.
+        let noisy = [7.0, 14.0, 9.0, 13.0, 12.0, 6.0, 15.0];
+        let change = judge(&base, &noisy, &[]);
+        assert!(change.ratio() > 1.19 && !change.regression, "{change:?}");
+        // 2 % slower on every repeat: beyond the noise, within the threshold.
+        let slightly: Vec<f64> = base.iter().map(|t| t * 1.02).collect();
+        assert!(!judge(&base, &slightly, &[]).regression);
+        // Faster beyond both: an improvement.
+        let faster: Vec<f64> = base.iter().map(|t| t * 0.7).collect();
+        let change = judge(&base, &faster, &[]);
+        assert!(change.improvement && !change.regression);
+    }
+
+    #[test]
+    fn single_times_are_judged_against_the_history_or_not_at_all() {
+        let history = [10.0, 10.3, 9.8, 10.1, 9.9];
+        assert!(judge(&[10.0], &[13.0], &history).regression);
+        assert!(!judge(&[10.0], &[10.4], &history).regression);
+        // A history this noisy holds 13 ms within its spread.
+        assert!(!judge(&[10.0], &[13.0], &[6.0, 14.0, 9.0, 13.5, 7.0]).regression);
+        let unjudged = judge(&[10.0], &[20.0], &[]);
+        assert_eq!((unjudged.evidence, unjudged.regression), (TimeEvidence::Unjudged, false));
     }
 }

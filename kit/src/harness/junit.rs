@@ -146,6 +146,7 @@ mod tests {
             params: BTreeMap::new(),
             metrics: BTreeMap::new(),
             gpu_ms: None,
+            gpu_ms_repeats: Vec::new(),
             wall_ms: 1500.0,
             evidence: Vec::new(),
             attempts: 1,

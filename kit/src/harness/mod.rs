@@ -7,6 +7,7 @@ pub mod compare;
 pub mod database;
 pub mod expectations;
 pub mod junit;
+pub mod noise;
 pub mod params;
 pub mod report;
 pub mod run;

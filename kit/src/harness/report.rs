@@ -44,6 +44,13 @@ impl ReportedOutcome {
     }
 }
 
+/// A case run's key across reports: its name, and its parameters where it has any.
+pub fn run_name(name: &str, params: &BTreeMap<String, ParamValue>) -> String {
+    let params: Vec<String> =
+        params.iter().map(|(k, v)| format!("{k}={}", serde_json::to_string(v).unwrap_or_default())).collect();
+    if params.is_empty() { name.to_owned() } else { format!("{name} [{}]", params.join(" ")) }
+}
+
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CaseRecord {
     pub name: String,
@@ -53,6 +60,10 @@ pub struct CaseRecord {
     pub metrics: BTreeMap<String, serde_json::Value>,
     /// Sum of the case's timed passes; null where the adapter has no timestamps.
     pub gpu_ms: Option<f64>,
+    /// GPU time of every timed repeat (`check --repeat N`, `fragkit bench`'s rounds), where
+    /// more than one ran: what `fragkit compare` judges a time change against.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub gpu_ms_repeats: Vec<f64>,
     pub wall_ms: f64,
     pub evidence: Vec<PathBuf>,
     /// Runs of the case: 1, or more where `--retry` ran a failure again.
@@ -88,9 +99,7 @@ fn flatten_metric(path: &str, value: &serde_json::Value, out: &mut BTreeMap<Stri
 impl CaseRecord {
     /// The case run's name: the case's, followed by its parameters (`name [k=v …]`) where it has any.
     pub fn run_name(&self) -> String {
-        let params: Vec<String> =
-            self.params.iter().map(|(k, v)| format!("{k}={}", serde_json::to_string(v).unwrap_or_default())).collect();
-        if params.is_empty() { self.name.clone() } else { format!("{} [{}]", self.name, params.join(" ")) }
+        run_name(&self.name, &self.params)
     }
 
     /// The metrics flattened to numbers, by dotted path.

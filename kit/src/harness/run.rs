@@ -96,6 +96,38 @@ pub struct RunOptions<'a> {
     pub reproduce_lines: bool,
     /// Re-run a failed case up to this many times; passing on a retry makes it `flaky`.
     pub retries: u32,
+    /// Run each case this many times (at least 1) and keep every run's GPU time, so that
+    /// `fragkit compare` can judge a time change against the noise; the GPU time reported is
+    /// the median. A repeat whose outcome differs makes the case `flaky`.
+    pub repeats: u32,
+}
+
+/// Runs `run` `repeats − 1` more times after `record`, keeping every GPU time.
+fn repeat(gpu: &Gpu, run: &CaseRun, options: &RunOptions, mut record: CaseRecord) -> CaseRecord {
+    let Some(first_ms) = record.gpu_ms else { return record };
+    let mut times = vec![first_ms];
+    for attempt in 2..=options.repeats {
+        if gpu.lost().is_some() {
+            break;
+        }
+        let again = run_case(gpu, run.case, &run.overrides, options.expectations, options.evidence_dir);
+        if again.outcome != record.outcome {
+            record.reason = format!(
+                "repeat {attempt} of {} was {} ({}) where the first run was {} ({})",
+                options.repeats,
+                again.outcome.label(),
+                again.reason,
+                record.outcome.label(),
+                record.reason
+            );
+            record.outcome = ReportedOutcome::Flaky;
+            break;
+        }
+        times.extend(again.gpu_ms);
+    }
+    record.gpu_ms = Some(crate::query::median(times.clone()));
+    record.gpu_ms_repeats = times;
+    record
 }
 
 /// Runs `runs` on `gpu`, handing every record to `sinks`; returns the report.
@@ -120,6 +152,9 @@ pub fn run(mut gpu: Gpu, runs: &[CaseRun], options: &RunOptions, sinks: &mut [&m
                     ..again
                 };
             }
+        }
+        if options.repeats > 1 && !record.outcome.is_failure(true) {
+            record = repeat(&gpu, run, options, record);
         }
         if options.reproduce_lines && record.outcome.is_failure(true) {
             record.reason =

@@ -182,6 +182,7 @@ pub fn run_case(
         params: ctx.params.to_map(),
         metrics: ctx.metrics,
         gpu_ms,
+        gpu_ms_repeats: Vec::new(),
         wall_ms: started.elapsed().as_secs_f64() * 1e3,
         evidence: ctx.evidence,
         attempts: 1,

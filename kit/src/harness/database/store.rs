@@ -1,0 +1,301 @@
+//! The connection under the results database: an embedded SQLite file or a PostgreSQL server,
+//! behind one small interface — transactions that run SQL with `$1`-style parameters and return
+//! rows of plain values — so that both hold the same schema and answer the same queries.
+
+use std::time::Duration;
+
+use anyhow::{Context, Result, bail};
+use rusqlite::TransactionBehavior;
+
+/// A parameter of a statement, typed so that PostgreSQL accepts a null for its column.
+#[derive(Clone, Debug)]
+pub enum Param<'a> {
+    Int(Option<i64>),
+    Real(Option<f64>),
+    Text(Option<&'a str>),
+}
+
+impl From<i64> for Param<'_> {
+    fn from(v: i64) -> Self {
+        Self::Int(Some(v))
+    }
+}
+impl From<f64> for Param<'_> {
+    fn from(v: f64) -> Self {
+        Self::Real(Some(v))
+    }
+}
+impl From<Option<f64>> for Param<'_> {
+    fn from(v: Option<f64>) -> Self {
+        Self::Real(v)
+    }
+}
+impl<'a> From<&'a str> for Param<'a> {
+    fn from(v: &'a str) -> Self {
+        Self::Text(Some(v))
+    }
+}
+impl<'a> From<&'a String> for Param<'a> {
+    fn from(v: &'a String) -> Self {
+        Self::Text(Some(v))
+    }
+}
+impl<'a> From<Option<&'a str>> for Param<'a> {
+    fn from(v: Option<&'a str>) -> Self {
+        Self::Text(v)
+    }
+}
+
+/// One value of a result row.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Value {
+    Null,
+    Int(i64),
+    Real(f64),
+    Text(String),
+}
+
+/// A result row, with typed accessors that say which column was not what the schema promises.
+#[derive(Clone, Debug)]
+pub struct Row(pub Vec<Value>);
+
+impl Row {
+    pub fn int(&self, i: usize) -> Result<i64> {
+        match self.0.get(i) {
+            Some(Value::Int(v)) => Ok(*v),
+            other => bail!("column {i}: expected an integer, found {other:?}"),
+        }
+    }
+    pub fn real(&self, i: usize) -> Result<Option<f64>> {
+        match self.0.get(i) {
+            Some(Value::Real(v)) => Ok(Some(*v)),
+            Some(Value::Int(v)) => Ok(Some(*v as f64)),
+            Some(Value::Null) => Ok(None),
+            other => bail!("column {i}: expected a number, found {other:?}"),
+        }
+    }
+    pub fn text(&self, i: usize) -> Result<String> {
+        match self.0.get(i) {
+            Some(Value::Text(v)) => Ok(v.clone()),
+            other => bail!("column {i}: expected text, found {other:?}"),
+        }
+    }
+    pub fn optional_text(&self, i: usize) -> Result<Option<String>> {
+        match self.0.get(i) {
+            Some(Value::Null) => Ok(None),
+            _ => self.text(i).map(Some),
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dialect {
+    Sqlite,
+    Postgres,
+}
+
+pub enum Store {
+    Sqlite(rusqlite::Connection),
+    Postgres(Box<postgres::Client>),
+}
+
+/// Whether `location` names a PostgreSQL server rather than an SQLite file.
+pub fn is_postgres_url(location: &str) -> bool {
+    location.starts_with("postgres://") || location.starts_with("postgresql://")
+}
+
+impl Store {
+    /// Connects to `location`: a `postgres://` URL, else an SQLite file (created where missing).
+    pub fn open(location: &str) -> Result<Self> {
+        if is_postgres_url(location) {
+            let client = postgres::Client::connect(location, postgres::NoTls)
+                .with_context(|| format!("connecting to the results database {}", redact(location)))?;
+            return Ok(Self::Postgres(Box::new(client)));
+        }
+        let connection =
+            rusqlite::Connection::open(location).with_context(|| format!("opening the results database {location}"))?;
+        // Writers queue for each other instead of failing.
+        connection.busy_timeout(Duration::from_secs(60)).context("setting the database's busy timeout")?;
+        Ok(Self::Sqlite(connection))
+    }
+
+    pub fn dialect(&self) -> Dialect {
+        match self {
+            Self::Sqlite(_) => Dialect::Sqlite,
+            Self::Postgres(_) => Dialect::Postgres,
+        }
+    }
+
+    /// Runs `work` in one transaction, committed when it returns Ok, rolled back otherwise (or
+    /// when the process dies first). SQLite takes the write lock at the start, so two writers
+    /// queue rather than deadlock.
+    pub fn transaction<T>(&mut self, work: impl FnOnce(&mut Transaction) -> Result<T>) -> Result<T> {
+        match self {
+            Self::Sqlite(connection) => {
+                let tx = connection.transaction_with_behavior(TransactionBehavior::Immediate)?;
+                let mut transaction = Transaction::Sqlite(tx);
+                let result = work(&mut transaction)?;
+                let Transaction::Sqlite(tx) = transaction else { unreachable!("built as SQLite above") };
+                tx.commit().context("committing")?;
+                Ok(result)
+            }
+            Self::Postgres(client) => {
+                let tx = client.transaction()?;
+                let mut transaction = Transaction::Postgres(tx);
+                let result = work(&mut transaction)?;
+                let Transaction::Postgres(tx) = transaction else { unreachable!("built as PostgreSQL above") };
+                tx.commit().context("committing")?;
+                Ok(result)
+            }
+        }
+    }
+}
+
+/// A URL without its password, for messages.
+pub fn redact(location: &str) -> String {
+    match (location.find("://"), location.rfind('@')) {
+        (Some(scheme), Some(at)) if at > scheme => {
+            let credentials = &location[scheme + 3..at];
+            match credentials.split_once(':') {
+                Some((user, _)) => format!("{}{user}:***{}", &location[..scheme + 3], &location[at..]),
+                None => location.to_owned(),
+            }
+        }
+        _ => location.to_owned(),
+    }
+}
+
+pub enum Transaction<'a> {
+    Sqlite(rusqlite::Transaction<'a>),
+    Postgres(postgres::Transaction<'a>),
+}
+
+/// `$1`-style placeholders as SQLite spells them (`?1`): same numbers, any order.
+fn sqlite_sql(sql: &str) -> String {
+    sql.replace('$', "?")
+}
+
+fn sqlite_param(p: &Param) -> rusqlite::types::Value {
+    use rusqlite::types::Value as V;
+    match p {
+        Param::Int(v) => v.map_or(V::Null, V::Integer),
+        Param::Real(v) => v.map_or(V::Null, V::Real),
+        Param::Text(v) => v.map_or(V::Null, |s| V::Text(s.to_owned())),
+    }
+}
+
+fn postgres_params<'p>(params: &'p [Param]) -> Vec<Box<dyn postgres::types::ToSql + Sync + 'p>> {
+    params
+        .iter()
+        .map(|p| -> Box<dyn postgres::types::ToSql + Sync> {
+            match p {
+                Param::Int(v) => Box::new(*v),
+                Param::Real(v) => Box::new(*v),
+                Param::Text(v) => Box::new(*v),
+            }
+        })
+        .collect()
+}
+
+fn postgres_value(row: &postgres::Row, i: usize) -> Result<Value> {
+    use postgres::types::Type;
+    let ty = row.columns()[i].type_().clone();
+    let value = if ty == Type::INT8 {
+        row.try_get::<_, Option<i64>>(i)?.map(Value::Int)
+    } else if ty == Type::INT4 {
+        row.try_get::<_, Option<i32>>(i)?.map(|v| Value::Int(v.into()))
+    } else if ty == Type::FLOAT8 {
+        row.try_get::<_, Option<f64>>(i)?.map(Value::Real)
+    } else if ty == Type::FLOAT4 {
+        row.try_get::<_, Option<f32>>(i)?.map(|v| Value::Real(v.into()))
+    } else if ty == Type::TEXT || ty == Type::VARCHAR || ty == Type::NAME {
+        row.try_get::<_, Option<String>>(i)?.map(Value::Text)
+    } else {
+        bail!("column {i} has type {ty}, which the results database does not use")
+    };
+    Ok(value.unwrap_or(Value::Null))
+}
+
+impl Transaction<'_> {
+    pub fn dialect(&self) -> Dialect {
+        match self {
+            Self::Sqlite(_) => Dialect::Sqlite,
+            Self::Postgres(_) => Dialect::Postgres,
+        }
+    }
+
+    /// Runs statements without parameters (a migration).
+    pub fn batch(&mut self, sql: &str) -> Result<()> {
+        match self {
+            Self::Sqlite(tx) => tx.execute_batch(sql)?,
+            Self::Postgres(tx) => tx.batch_execute(sql)?,
+        }
+        Ok(())
+    }
+
+    pub fn execute(&mut self, sql: &str, params: &[Param]) -> Result<u64> {
+        match self {
+            Self::Sqlite(tx) => {
+                let values: Vec<rusqlite::types::Value> = params.iter().map(sqlite_param).collect();
+                let mut statement = tx.prepare_cached(&sqlite_sql(sql))?;
+                Ok(statement.execute(rusqlite::params_from_iter(values))? as u64)
+            }
+            Self::Postgres(tx) => {
+                let owned = postgres_params(params);
+                let refs: Vec<&(dyn postgres::types::ToSql + Sync)> = owned.iter().map(|b| b.as_ref()).collect();
+                Ok(tx.execute(sql, &refs)?)
+            }
+        }
+    }
+
+    pub fn query(&mut self, sql: &str, params: &[Param]) -> Result<Vec<Row>> {
+        match self {
+            Self::Sqlite(tx) => {
+                let values: Vec<rusqlite::types::Value> = params.iter().map(sqlite_param).collect();
+                let mut statement = tx.prepare_cached(&sqlite_sql(sql))?;
+                let columns = statement.column_count();
+                let rows = statement.query_map(rusqlite::params_from_iter(values), |row| {
+                    (0..columns)
+                        .map(|i| {
+                            use rusqlite::types::ValueRef;
+                            Ok(match row.get_ref(i)? {
+                                ValueRef::Null => Value::Null,
+                                ValueRef::Integer(v) => Value::Int(v),
+                                ValueRef::Real(v) => Value::Real(v),
+                                ValueRef::Text(t) => Value::Text(String::from_utf8_lossy(t).into_owned()),
+                                ValueRef::Blob(_) => Value::Null,
+                            })
+                        })
+                        .collect::<rusqlite::Result<Vec<Value>>>()
+                        .map(Row)
+                })?;
+                Ok(rows.collect::<rusqlite::Result<Vec<Row>>>()?)
+            }
+            Self::Postgres(tx) => {
+                let owned = postgres_params(params);
+                let refs: Vec<&(dyn postgres::types::ToSql + Sync)> = owned.iter().map(|b| b.as_ref()).collect();
+                tx.query(sql, &refs)?
+                    .iter()
+                    .map(|row| (0..row.len()).map(|i| postgres_value(row, i)).collect::<Result<Vec<_>>>().map(Row))
+                    .collect()
+            }
+        }
+    }
+
+    /// The first row of `sql`'s result, if any.
+    pub fn query_one(&mut self, sql: &str, params: &[Param]) -> Result<Option<Row>> {
+        Ok(self.query(sql, params)?.into_iter().next())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn passwords_stay_out_of_messages() {
+        assert_eq!(redact("postgres://kit:secret@db:5432/runs"), "postgres://kit:***@db:5432/runs");
+        assert_eq!(redact("postgres://kit@db/runs"), "postgres://kit@db/runs");
+        assert_eq!(redact("results.sqlite"), "results.sqlite");
+    }
+}

@@ -1,0 +1,143 @@
+//! Whether a GPU time changed beyond its noise. Two runs with repeats (`check --repeat N`,
+//! `fragkit bench`'s rounds) are compared with the Mann–Whitney U test: it asks whether one run's
+//! times tend to be larger than the other's without assuming a distribution (GPU times are
+//! skewed: a frame is sometimes late, never early). Where one side has a single time, earlier
+//! runs of the case on the adapter give the spread instead: the median absolute deviation, which
+//! one outlying run does not inflate.
+
+/// Two-sided p-value of the Mann–Whitney U test that `a` and `b` come from one distribution.
+/// Exact (counting every split of the ranks) when both samples are small and untied, the
+/// normal approximation with tie and continuity corrections otherwise.
+pub fn mann_whitney_p(a: &[f64], b: &[f64]) -> f64 {
+    let (n1, n2) = (a.len(), b.len());
+    if n1 == 0 || n2 == 0 {
+        return 1.0;
+    }
+    // Midranks of the pooled sample.
+    let mut pooled: Vec<(f64, bool)> = a.iter().map(|&x| (x, true)).chain(b.iter().map(|&x| (x, false))).collect();
+    pooled.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let mut rank_sum_a = 0.0;
+    let mut tie_term = 0.0;
+    let mut i = 0;
+    while i < pooled.len() {
+        let mut j = i;
+        while j + 1 < pooled.len() && pooled[j + 1].0 == pooled[i].0 {
+            j += 1;
+        }
+        let midrank = (i + j) as f64 / 2.0 + 1.0;
+        let tied = (j - i + 1) as f64;
+        tie_term += tied * tied * tied - tied;
+        rank_sum_a += pooled[i..=j].iter().filter(|(_, from_a)| *from_a).count() as f64 * midrank;
+        i = j + 1;
+    }
+    let u = rank_sum_a - (n1 * (n1 + 1)) as f64 / 2.0;
+    if tie_term == 0.0 && n1 * n2 <= MAX_EXACT {
+        exact_p(n1, n2, u.round() as usize)
+    } else {
+        normal_p(n1, n2, u, tie_term)
+    }
+}
+
+/// Largest n1·n2 counted exactly (50 repeats against 50): the normal approximation is off by up
+/// to a factor of 2 in the far tail, where the verdicts are made.
+const MAX_EXACT: usize = 2500;
+
+/// Two-sided p-value of U = `u` from the normal approximation, with the variance corrected for
+/// ties (`tie_term`: the sum of t³ − t over tied groups) and a continuity correction.
+fn normal_p(n1: usize, n2: usize, u: f64, tie_term: f64) -> f64 {
+    let (n1, n2) = (n1 as f64, n2 as f64);
+    let n = n1 + n2;
+    let variance = n1 * n2 / 12.0 * ((n + 1.0) - tie_term / (n * (n - 1.0)));
+    if variance <= 0.0 {
+        return 1.0;
+    }
+    let z = ((u - n1 * n2 / 2.0).abs() - 0.5).max(0.0) / variance.sqrt();
+    (2.0 * normal_upper_tail(z)).min(1.0)
+}
+
+/// Exact two-sided p-value of U = `u` for untied samples of sizes `n1`, `n2`: the share of the
+/// C(n1+n2, n1) orders whose U lies at least as far from the mean.
+fn exact_p(n1: usize, n2: usize, u: usize) -> f64 {
+    // counts[j][s], for the current i: orders of i values of the first sample and j of the
+    // second with U = s (U counts pairs where the first sample's value is larger). The largest
+    // value comes either from the first sample, adding j to U, or from the second, adding
+    // nothing: f(i, j, s) = f(i − 1, j, s − j) + f(i, j − 1, s).
+    let max_u = n1 * n2;
+    let mut previous = vec![vec![0.0f64; max_u + 1]; n2 + 1];
+    for row in &mut previous {
+        row[0] = 1.0;
+    }
+    for _ in 1..=n1 {
+        let mut current = vec![vec![0.0f64; max_u + 1]; n2 + 1];
+        current[0][0] = 1.0;
+        for j in 1..=n2 {
+            for s in 0..=max_u {
+                let top_from_first = if s >= j { previous[j][s - j] } else { 0.0 };
+                current[j][s] = top_from_first + current[j - 1][s];
+            }
+        }
+        previous = current;
+    }
+    let counts = &previous[n2];
+    let total: f64 = counts.iter().sum();
+    let mean = max_u as f64 / 2.0;
+    let distance = (u as f64 - mean).abs();
+    let extreme: f64 =
+        counts.iter().enumerate().filter(|(s, _)| (*s as f64 - mean).abs() >= distance - 1e-9).map(|(_, c)| c).sum();
+    (extreme / total).min(1.0)
+}
+
+/// P(Z > z) for a standard normal Z (Abramowitz–Stegun 7.1.26 through erfc; error < 1.5e-7).
+fn normal_upper_tail(z: f64) -> f64 {
+    let x = z / std::f64::consts::SQRT_2;
+    let t = 1.0 / (1.0 + 0.327_591_1 * x);
+    let poly =
+        t * (0.254_829_592 + t * (-0.284_496_736 + t * (1.421_413_741 + t * (-1.453_152_027 + t * 1.061_405_429))));
+    0.5 * poly * (-x * x).exp()
+}
+
+/// Median and median absolute deviation, scaled by 1.4826 to estimate a normal's σ.
+pub fn median_and_spread(values: &[f64]) -> (f64, f64) {
+    let median = crate::query::median(values.to_vec());
+    let deviations = values.iter().map(|v| (v - median).abs()).collect();
+    (median, 1.4826 * crate::query::median(deviations))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exact_p_values_match_the_published_table() {
+        // n1 = n2 = 4: P(U <= 0) = 1/70, two-sided 2/70; P(U <= 1) = 2/70.
+        let (low, high) = ([1.0, 2.0, 3.0, 4.0], [5.0, 6.0, 7.0, 8.0]);
+        assert!((mann_whitney_p(&low, &high) - 2.0 / 70.0).abs() < 1e-12);
+        let (low, high) = ([1.0, 2.0, 3.0, 5.0], [4.0, 6.0, 7.0, 8.0]);
+        assert!((mann_whitney_p(&low, &high) - 4.0 / 70.0).abs() < 1e-12);
+        // Interleaved samples: no evidence of a shift.
+        assert_eq!(mann_whitney_p(&[1.0, 4.0, 5.0, 8.0], &[2.0, 3.0, 6.0, 7.0]), 1.0);
+    }
+
+    #[test]
+    fn exact_counts_match_an_independent_count_and_the_approximation_where_it_holds() {
+        // 21 against 21 untied values, shifted by 7.25: U = 91. The exact p-value, 2·P(U <= 91),
+        // counted independently as Gaussian binomial coefficients [42 choose 21]_q.
+        let a: Vec<f64> = (0..21).map(f64::from).collect();
+        let b: Vec<f64> = (0..21).map(|i| f64::from(i) + 7.25).collect();
+        assert!((mann_whitney_p(&a, &b) / 0.000_811_699_411_651_992_4 - 1.0).abs() < 1e-9);
+        // In the far tail the approximation is off by nearly half; near p = 0.2 by under 10 %.
+        let tail = normal_p(21, 21, 91.0, 0.0);
+        assert!((tail / exact_p(21, 21, 91) - 1.0).abs() < 0.5, "{tail}");
+        let moderate = normal_p(21, 21, 171.0, 0.0);
+        assert!((moderate / exact_p(21, 21, 171) - 1.0).abs() < 0.1, "{moderate}");
+        // Ties take the approximation: identical samples show nothing.
+        assert!(mann_whitney_p(&[1.0; 9], &[1.0; 9]) >= 0.99);
+    }
+
+    #[test]
+    fn spread_ignores_one_outlying_run() {
+        let (median, spread) = median_and_spread(&[10.0, 10.2, 9.8, 10.1, 9.9, 30.0]);
+        assert!((median - 10.1).abs() < 1e-12);
+        assert!(spread < 0.5, "{spread}");
+    }
+}
