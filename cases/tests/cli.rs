@@ -230,20 +230,42 @@ fn compare_reports_a_case_broken_in_the_new_run_and_exits_non_zero() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-#[test]
-fn runs_recorded_in_a_database_compare_and_concurrent_writers_both_land() {
-    let dir = std::env::temp_dir().join(format!("fragkit-db-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let db = dir.join("results.sqlite");
-    let db = db.to_str().unwrap();
+/// A fresh, empty PostgreSQL database named `name` on the server `.ci/run` starts (its URL in
+/// FRAGKIT_TEST_POSTGRES, from `bash .ci/postgres`). Without one the PostgreSQL tests are skipped
+/// with a note, except under CI, where they must run.
+fn fresh_postgres_database(name: &str) -> Option<String> {
+    let Ok(server) = std::env::var("FRAGKIT_TEST_POSTGRES") else {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI must test the PostgreSQL backend: run `export FRAGKIT_TEST_POSTGRES=$(bash .ci/postgres)` first"
+        );
+        eprintln!("note: FRAGKIT_TEST_POSTGRES is unset (see .ci/postgres): PostgreSQL test skipped");
+        return None;
+    };
+    let database = format!("fragkit_test_{name}");
+    let status = Command::new("psql")
+        .env("PGOPTIONS", "-c client_min_messages=warning")
+        .args([server.as_str(), "-q", "-c", &format!("DROP DATABASE IF EXISTS {database}")])
+        .args(["-c", &format!("CREATE DATABASE {database}")])
+        .status()
+        .expect("running psql");
+    assert!(status.success(), "creating {database} on {server}");
+    let (base, _) = server.rsplit_once('/').expect("a URL ending in /DATABASE");
+    Some(format!("{base}/{database}"))
+}
+
+/// Two tagged check runs, a bench run, history, two processes importing at once, and the refusals
+/// — the same on either backend.
+fn runs_recorded_in_a_database_compare_and_concurrent_writers_both_land(db: &str, dir: &std::path::Path) {
     for tag in ["base", "new"] {
-        let (code, text) = fragkit(&["check", "kit.hash.values", "cbr.layout.mapping", "--db", db, "--tag", tag]);
+        let (code, text) =
+            fragkit(&["check", "kit.hash.values", "cbr.layout.mapping", "--repeat", "3", "--db", db, "--tag", tag]);
         assert_eq!(code, 0, "{text}");
         assert!(text.contains("recorded as run"), "{text}");
     }
-    let (code, text) = fragkit(&["compare", "--db", db, "latest~1", "latest"]);
+    let (code, text) = fragkit(&["compare", "--db", db, "latest~1", "latest", "--threshold", "0.5"]);
     assert_eq!(code, 0, "{text}");
-    assert!(text.contains("0 regressions"), "{text}");
+    assert!(text.contains("0 regressions") && text.contains("3 vs 3 repeats, Mann–Whitney"), "{text}");
 
     let plot = dir.join("history.png");
     let (code, text) =
@@ -251,6 +273,11 @@ fn runs_recorded_in_a_database_compare_and_concurrent_writers_both_land() {
     assert_eq!(code, 0, "{text}");
     assert_eq!(text.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| run")).count(), 2, "{text}");
     assert!(std::fs::read(&plot).unwrap().starts_with(b"\x89PNG"));
+
+    // The bench from the binary: one case run per variant, every round's time kept.
+    let (code, text) = fragkit(&["bench", "kit", "--rounds", "3", "--db", db, "--tag", "bench"]);
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("stencil_equal_1.98pct") && text.contains("recorded as run"), "{text}");
 
     // Two processes importing at once: both runs land.
     let report = dir.join("report.json");
@@ -270,17 +297,50 @@ fn runs_recorded_in_a_database_compare_and_concurrent_writers_both_land() {
     let (code, text) = fragkit(&["compare", "--db", db, "tag:base", "latest"]);
     assert_eq!(code, 0, "{text}");
     assert!(text.contains("only in the base"), "{text}");
-    let (code, text) = fragkit(&["compare", "--db", db, "latest~4", "latest"]);
+    let (code, text) = fragkit(&["compare", "--db", db, "tag:bench", "latest@*"]);
+    assert_eq!(code, 0, "{text}");
+    let (code, text) = fragkit(&["compare", "--db", db, "latest~5", "latest"]);
     assert_eq!(code, 2, "{text}");
-    assert!(text.contains("holds no run latest~4 (4 runs recorded)"), "{text}");
+    assert!(text.contains("holds no run latest~5 (5 runs recorded)"), "{text}");
+    let (code, text) = fragkit(&["compare", "--db", db, "latest@no-such-adapter*", "latest"]);
+    assert_eq!(code, 2, "{text}");
+}
 
-    // Not a database, and no --db for a run name: refused.
+#[test]
+fn runs_recorded_in_an_sqlite_database_compare_and_concurrent_writers_both_land() {
+    let dir = std::env::temp_dir().join(format!("fragkit-db-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let db = dir.join("results.sqlite");
+    runs_recorded_in_a_database_compare_and_concurrent_writers_both_land(db.to_str().unwrap(), &dir);
+
+    // Not a database, a newer schema, and no --db for a run name: refused.
     let junk = dir.join("junk.sqlite");
     std::fs::write(&junk, "not a database").unwrap();
     let (code, text) = fragkit(&["check", "kit.hash.values", "--db", junk.to_str().unwrap()]);
     assert_eq!(code, 2, "{text}");
     let (code, text) = fragkit(&["compare", "latest~1", "latest"]);
     assert_eq!(code, 2, "{text}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn runs_recorded_in_a_postgres_database_compare_and_concurrent_writers_both_land() {
+    let Some(db) = fresh_postgres_database("round_trip") else { return };
+    let dir = std::env::temp_dir().join(format!("fragkit-pg-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    runs_recorded_in_a_database_compare_and_concurrent_writers_both_land(&db, &dir);
+
+    // A newer schema than this kit knows, someone else's tables, an unreachable server: refused.
+    let psql = |url: &str, sql: &str| assert!(Command::new("psql").args([url, "-qc", sql]).status().unwrap().success());
+    psql(&db, "UPDATE fragkit_schema SET version = 99");
+    let (code, text) = fragkit(&["compare", "--db", &db, "latest~1", "latest"]);
+    assert!(code == 2 && text.contains("schema version 99"), "{text}");
+    let other = fresh_postgres_database("other_tables").unwrap();
+    psql(&other, "CREATE TABLE orders (id BIGINT)");
+    let (code, text) = fragkit(&["check", "kit.hash.values", "--db", &other]);
+    assert!(code == 2 && text.contains("not a fragkit results database"), "{text}");
+    let (code, text) = fragkit(&["check", "kit.hash.values", "--db", "postgres://fragkit@127.0.0.1:1/none"]);
+    assert!(code == 2 && text.contains("connecting to the results database"), "{text}");
     std::fs::remove_dir_all(&dir).ok();
 }
 

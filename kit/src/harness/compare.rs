@@ -28,16 +28,39 @@ pub struct MetricChange {
     pub new: f64,
 }
 
-/// What a GPU-time change was judged against.
+/// Both runs' repeats, compared: the Mann–Whitney p-value.
 #[derive(Clone, Debug, PartialEq)]
-pub enum TimeEvidence {
-    /// Both runs' repeats: the Mann–Whitney p-value.
-    Repeats { p: f64, base_runs: usize, new_runs: usize },
-    /// Earlier runs of the case on the adapter: their median and spread (scaled MAD), and how
-    /// many spreads the new time lies from that median.
-    History { runs: usize, median_ms: f64, spread_ms: f64, spreads: f64 },
-    /// One time on each side and no history: a ratio, not a judgement.
-    Unjudged,
+pub struct RepeatsTest {
+    pub p: f64,
+    pub base_runs: usize,
+    pub new_runs: usize,
+}
+
+/// Earlier runs of the case on the adapter: their median and spread (scaled MAD), and how many
+/// spreads the new time lies from that median. It catches what repeats within a run cannot: the
+/// drift between runs (another day, another machine state).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HistorySpread {
+    pub runs: usize,
+    pub median_ms: f64,
+    pub spread_ms: f64,
+    pub spreads: f64,
+}
+
+/// What a GPU-time change was judged against: each that is available must call it beyond the
+/// noise; neither (one time each, no history) leaves a ratio, not a judgement.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TimeEvidence {
+    pub repeats: Option<RepeatsTest>,
+    pub history: Option<HistorySpread>,
+    /// False where one run has repeats (a warm median) and the other a single, cold time.
+    pub comparable: bool,
+}
+
+impl TimeEvidence {
+    pub fn judged(&self) -> bool {
+        self.repeats.is_some() || self.history.is_some()
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -88,20 +111,35 @@ impl TimeJudgement {
         if base_ms <= 0.0 || new_ms <= 0.0 {
             return None;
         }
+        // A run's first time includes compiling its pipelines (tens of ms on a CPU driver); a
+        // median of repeats is a warm time. Only like is judged against like.
+        if base.gpu_ms_repeats.is_empty() != new.gpu_ms_repeats.is_empty() {
+            return Some(TimeChange {
+                case: case.to_owned(),
+                base_ms,
+                new_ms,
+                evidence: TimeEvidence { repeats: None, history: None, comparable: false },
+                regression: false,
+                improvement: false,
+            });
+        }
         let ratio = new_ms / base_ms;
         let (slower, faster) = (ratio > 1.0 + self.threshold, ratio < 1.0 / (1.0 + self.threshold));
         let (base_runs, new_runs) = (base.gpu_ms_repeats.len(), new.gpu_ms_repeats.len());
-        let (evidence, beyond_noise) = if base_runs >= MIN_REPEATS && new_runs >= MIN_REPEATS {
-            let p = mann_whitney_p(&base.gpu_ms_repeats, &new.gpu_ms_repeats);
-            (TimeEvidence::Repeats { p, base_runs, new_runs }, p < self.alpha)
-        } else if history.len() >= MIN_HISTORY {
+        let repeats = (base_runs >= MIN_REPEATS && new_runs >= MIN_REPEATS).then(|| RepeatsTest {
+            p: mann_whitney_p(&base.gpu_ms_repeats, &new.gpu_ms_repeats),
+            base_runs,
+            new_runs,
+        });
+        let history = (history.len() >= MIN_HISTORY).then(|| {
             let (median_ms, spread_ms) = median_and_spread(history);
             let spreads = if spread_ms > 0.0 { (new_ms - median_ms) / spread_ms } else { f64::INFINITY };
-            let beyond = (new_ms - median_ms).abs() > self.spreads * spread_ms;
-            (TimeEvidence::History { runs: history.len(), median_ms, spread_ms, spreads }, beyond)
-        } else {
-            (TimeEvidence::Unjudged, false)
-        };
+            HistorySpread { runs: history.len(), median_ms, spread_ms, spreads }
+        });
+        let evidence = TimeEvidence { repeats, history, comparable: true };
+        let beyond_noise = evidence.judged()
+            && evidence.repeats.as_ref().is_none_or(|r| r.p < self.alpha)
+            && evidence.history.as_ref().is_none_or(|h| (new_ms - h.median_ms).abs() > self.spreads * h.spread_ms);
         Some(TimeChange {
             case: case.to_owned(),
             base_ms,
@@ -135,14 +173,25 @@ impl Comparison {
     }
 }
 
-/// Compares `new` against `base`. `history` maps a case run (`CaseRecord::run_name`) to GPU
-/// times of earlier runs of it on the new run's adapter (empty where there is no database).
-pub fn compare(
-    base: &Report,
-    new: &Report,
-    judgement: &TimeJudgement,
-    history: &BTreeMap<String, Vec<f64>>,
-) -> Comparison {
+/// GPU times of earlier runs of each case run (`CaseRecord::run_name`) on one adapter, kept apart
+/// by kind: single (cold) times and medians of repeats (warm).
+#[derive(Clone, Debug, Default)]
+pub struct GpuHistory {
+    pub single: BTreeMap<String, Vec<f64>>,
+    pub repeated: BTreeMap<String, Vec<f64>>,
+}
+
+impl GpuHistory {
+    /// The earlier times of `case` of the same kind as `record`'s.
+    fn like(&self, case: &str, record: &CaseRecord) -> &[f64] {
+        let by_kind = if record.gpu_ms_repeats.is_empty() { &self.single } else { &self.repeated };
+        by_kind.get(case).map_or(&[], Vec::as_slice)
+    }
+}
+
+/// Compares `new` against `base`, judging GPU times against the runs' repeats and `history`
+/// (earlier runs on the new run's adapter; empty where there is no database).
+pub fn compare(base: &Report, new: &Report, judgement: &TimeJudgement, history: &GpuHistory) -> Comparison {
     let index = |report: &Report| -> BTreeMap<String, CaseRecord> {
         report.cases.iter().map(|c| (c.run_name(), c.clone())).collect()
     };
@@ -180,8 +229,7 @@ pub fn compare(
                 });
             }
         }
-        let earlier = history.get(case).map_or(&[][..], Vec::as_slice);
-        comparison.time_changes.extend(judgement.judge(case, before, now, earlier));
+        comparison.time_changes.extend(judgement.judge(case, before, now, history.like(case, now)));
     }
     comparison
 }
@@ -238,7 +286,7 @@ impl Comparison {
         if self.time_changes.is_empty() {
             return;
         }
-        let judged = |t: &&TimeChange| t.evidence != TimeEvidence::Unjudged;
+        let judged = |t: &&TimeChange| t.evidence.judged();
         let _ = writeln!(
             md,
             "### GPU time\n\n{} case runs timed in both: {} slower and {} faster beyond the threshold and the noise; {} judged, {} with one time each and no history (run `check --repeat N`, or record runs in a database).\n",
@@ -259,14 +307,19 @@ impl Comparison {
         let _ =
             writeln!(md, "| case | base ms | new ms | new / base | judged by | verdict |\n|---|---|---|---|---|---|");
         for t in shown {
-            let judged_by = match &t.evidence {
-                TimeEvidence::Repeats { p, base_runs, new_runs } => {
-                    format!("{base_runs} vs {new_runs} repeats, Mann–Whitney p = {p:.2e}")
-                }
-                TimeEvidence::History { runs, median_ms, spread_ms, spreads } => {
-                    format!("{runs} earlier runs: median {median_ms:.3} ms ± {spread_ms:.3}, {spreads:+.1} spreads")
-                }
-                TimeEvidence::Unjudged => "one time each".to_owned(),
+            let mut judged_by = Vec::new();
+            if let Some(RepeatsTest { p, base_runs, new_runs }) = &t.evidence.repeats {
+                judged_by.push(format!("{base_runs} vs {new_runs} repeats, Mann–Whitney p = {p:.2e}"));
+            }
+            if let Some(HistorySpread { runs, median_ms, spread_ms, spreads }) = &t.evidence.history {
+                judged_by.push(format!(
+                    "{runs} earlier runs: median {median_ms:.3} ms ± {spread_ms:.3}, {spreads:+.1} spreads"
+                ));
+            }
+            let judged_by = match (judged_by.is_empty(), t.evidence.comparable) {
+                (_, false) => "not comparable: a warm median of repeats against a single cold time".to_owned(),
+                (true, true) => "one time each".to_owned(),
+                (false, true) => judged_by.join("; "),
             };
             let verdict = if t.regression {
                 "**slower**"
@@ -327,7 +380,7 @@ mod tests {
             record("c", NotSupported, 3.0),
             record("added", Pass, 1.0),
         ]);
-        let c = compare(&base, &new, &TimeJudgement::default(), &BTreeMap::new());
+        let c = compare(&base, &new, &TimeJudgement::default(), &GpuHistory::default());
         assert_eq!(c.regressions.iter().map(|r| r.case.as_str()).collect::<Vec<_>>(), ["a"]);
         assert_eq!(c.fixes.iter().map(|r| r.case.as_str()).collect::<Vec<_>>(), ["b"]);
         assert_eq!(c.other_changes.iter().map(|r| r.case.as_str()).collect::<Vec<_>>(), ["c"]);
@@ -337,7 +390,7 @@ mod tests {
             (&["gone".to_owned()][..], &["added".to_owned()][..])
         );
         assert!(c.markdown("base", "new").contains("| `a` | pass | FAIL | why |"));
-        assert_eq!(compare(&base, &base, &TimeJudgement::default(), &BTreeMap::new()).regressions.len(), 0);
+        assert_eq!(compare(&base, &base, &TimeJudgement::default(), &GpuHistory::default()).regressions.len(), 0);
     }
 
     fn timed(repeats: &[f64]) -> CaseRecord {
@@ -349,7 +402,8 @@ mod tests {
     }
 
     fn judge(base: &[f64], new: &[f64], history: &[f64]) -> TimeChange {
-        let history = BTreeMap::from([("t".to_owned(), history.to_vec())]);
+        let earlier = BTreeMap::from([("t".to_owned(), history.to_vec())]);
+        let history = GpuHistory { single: earlier.clone(), repeated: earlier };
         let c = compare(&report(vec![timed(base)]), &report(vec![timed(new)]), &TimeJudgement::default(), &history);
         c.time_changes[0].clone()
     }
@@ -381,6 +435,24 @@ mod tests {
         // A history this noisy holds 13 ms within its spread.
         assert!(!judge(&[10.0], &[13.0], &[6.0, 14.0, 9.0, 13.5, 7.0]).regression);
         let unjudged = judge(&[10.0], &[20.0], &[]);
-        assert_eq!((unjudged.evidence, unjudged.regression), (TimeEvidence::Unjudged, false));
+        assert_eq!(
+            (unjudged.evidence, unjudged.regression),
+            (TimeEvidence { comparable: true, ..Default::default() }, false)
+        );
+        // A cold single time against a warm median is not judged at all.
+        let mixed = judge(&[10.0, 10.1, 9.9], &[40.0], &history);
+        assert!(!mixed.evidence.comparable && !mixed.regression);
+    }
+
+    #[test]
+    fn repeats_and_history_must_both_call_it_beyond_the_noise() {
+        let base = [10.0, 10.1, 9.9, 10.02, 10.05, 9.95, 10.08];
+        let new: Vec<f64> = base.iter().map(|t| t * 1.1).collect();
+        // Within the run, 10 % slower is clear; but earlier runs wandered as far.
+        let wandering = [9.0, 11.5, 10.0, 12.0, 8.5];
+        let change = judge(&base, &new, &wandering);
+        assert!(change.evidence.repeats.as_ref().unwrap().p < 0.01 && !change.regression, "{change:?}");
+        // A steady history confirms it.
+        assert!(judge(&base, &new, &[10.0, 10.1, 9.95, 10.05]).regression);
     }
 }

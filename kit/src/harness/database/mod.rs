@@ -9,11 +9,10 @@
 
 pub mod store;
 
-use std::collections::BTreeMap;
-
 use anyhow::{Context, Result, bail};
 
 use self::store::{Dialect, Row, Store, Transaction, redact};
+use super::compare::GpuHistory;
 use super::report::{CaseRecord, Report, ReportedOutcome, run_name};
 use crate::gpu::AdapterDescription;
 
@@ -381,17 +380,13 @@ impl Database {
         Ok(points)
     }
 
-    /// GPU times of passing (or known-issue) case runs on `adapter` in runs before `before` (all
-    /// runs where None), by case run (`CaseRecord::run_name`), oldest first: the history a GPU-time
-    /// change is judged against where the runs have no repeats.
-    pub fn gpu_history(
-        &mut self,
-        adapter: &AdapterDescription,
-        before: Option<i64>,
-    ) -> Result<BTreeMap<String, Vec<f64>>> {
+    /// GPU times of passing (or known-issue) case runs on `adapter` (same driver) in runs before
+    /// `before` (all runs where None), oldest first, by case run and kind (single or median of
+    /// repeats): the history a GPU-time change is judged against.
+    pub fn gpu_history(&mut self, adapter: &AdapterDescription, before: Option<i64>) -> Result<GpuHistory> {
         let rows = self.store.transaction(|tx| {
             tx.query(
-                "SELECT c.name, c.params, c.gpu_ms FROM case_runs c JOIN runs r ON c.run_id = r.id
+                "SELECT c.name, c.params, c.gpu_ms, c.gpu_ms_repeats FROM case_runs c JOIN runs r ON c.run_id = r.id
                  WHERE r.adapter = $1 AND r.backend = $2 AND r.driver_info = $3 AND r.id < $4
                    AND c.gpu_ms IS NOT NULL AND c.outcome IN ('pass', 'known_issue')
                  ORDER BY r.id",
@@ -403,11 +398,12 @@ impl Database {
                 ],
             )
         })?;
-        let mut history: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+        let mut history = GpuHistory::default();
         for row in rows {
             let params = serde_json::from_str(&row.text(1)?)
                 .with_context(|| format!("a case run's parameters in {} do not parse", self.location))?;
-            history.entry(run_name(&row.text(0)?, &params)).or_default().extend(row.real(2)?);
+            let by_kind = if row.text(3)? == "[]" { &mut history.single } else { &mut history.repeated };
+            by_kind.entry(run_name(&row.text(0)?, &params)).or_default().extend(row.real(2)?);
         }
         Ok(history)
     }
