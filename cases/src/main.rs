@@ -35,6 +35,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::Check(args) => return cli::check::check(&selector, args),
         Command::Merge(args) => return cli::merge::merge(args),
         Command::Compare(args) => return cli::compare::compare_reports(args),
+        Command::Html(args) => cli::html::html(args)?,
         Command::Import(args) => cli::import::import(args)?,
         Command::History(args) => cli::history::history(args)?,
     }

@@ -1,6 +1,6 @@
 //! `fragkit check`: run the selected cases (a sweep's draws, one shard's share) on one adapter and
-//! hand every record to the sinks asked for: the table, the JSON report, JUnit XML, the results
-//! database.
+//! hand every record to the sinks asked for: the table, the JSON report, JUnit XML, the HTML
+//! report, the results database.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -9,6 +9,7 @@ use anyhow::{Context, Result};
 use fragkit::gpu::{AdapterSelector, Gpu};
 use fragkit::harness::database::{Database, DatabaseSink, RunInfo};
 use fragkit::harness::expectations::{BUILT_IN, Expectations};
+use fragkit::harness::html::HtmlSink;
 use fragkit::harness::junit::JunitSink;
 use fragkit::harness::params::parse_overrides;
 use fragkit::harness::run::{JsonSink, RunOptions, Shard, Sink, plan_runs, run};
@@ -29,6 +30,10 @@ pub struct CheckArgs {
     /// known_issue as skipped).
     #[arg(long)]
     junit: Option<PathBuf>,
+    /// Write a browsable HTML report of this run into this folder (with --out, its evidence
+    /// images side by side).
+    #[arg(long)]
+    html: Option<PathBuf>,
     /// Write evidence images into this folder.
     #[arg(long)]
     out: Option<PathBuf>,
@@ -120,7 +125,11 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs) -> Result<ExitCode> {
     let mut junit = args.junit.as_deref().map(|path| JunitSink { path, flaky_fails: args.flaky_fails });
     let mut database =
         database.map(|database| DatabaseSink { database, info: RunInfo::now(args.tag.clone()), run_id: None });
+    let mut html = args.html.as_deref().map(|dir| HtmlSink { dir });
     let mut sinks: Vec<&mut dyn Sink> = vec![&mut table];
+    if let Some(sink) = html.as_mut() {
+        sinks.push(sink);
+    }
     if let Some(sink) = json.as_mut() {
         sinks.push(sink);
     }

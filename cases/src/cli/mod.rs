@@ -6,6 +6,7 @@ pub mod caps;
 pub mod check;
 pub mod compare;
 pub mod history;
+pub mod html;
 pub mod import;
 pub mod list;
 pub mod merge;
@@ -60,6 +61,9 @@ pub enum Command {
     Check(check::CheckArgs),
     /// Plot a case's metric over the runs of a results database, one line per adapter.
     History(history::HistoryArgs),
+    /// Write a browsable HTML report (matrix, case pages with evidence, comparison, plots) of JSON
+    /// reports or database runs.
+    Html(html::HtmlArgs),
     /// Record JSON reports written elsewhere in a results database.
     Import(import::ImportArgs),
     /// Compare two runs (JSON reports or database runs) case by case (markdown); exit 1 on a regression.

@@ -6,6 +6,7 @@ pub mod case;
 pub mod compare;
 pub mod database;
 pub mod expectations;
+pub mod html;
 pub mod junit;
 pub mod noise;
 pub mod params;

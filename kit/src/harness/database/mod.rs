@@ -380,6 +380,14 @@ impl Database {
         Ok(points)
     }
 
+    /// The latest run of each adapter (name, backend), oldest adapter first.
+    pub fn latest_per_adapter(&mut self) -> Result<Vec<i64>> {
+        let rows = self
+            .store
+            .transaction(|tx| tx.query("SELECT max(id) FROM runs GROUP BY adapter, backend ORDER BY max(id)", &[]))?;
+        rows.iter().map(|r| r.int(0)).collect()
+    }
+
     /// GPU times of passing (or known-issue) case runs on `adapter` (same driver) in runs before
     /// `before` (all runs where None), oldest first, by case run and kind (single or median of
     /// repeats): the history a GPU-time change is judged against.

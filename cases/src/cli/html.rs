@@ -1,0 +1,54 @@
+//! `fragkit html`: the browsable HTML report (`fragkit::harness::html`) of JSON reports or of runs
+//! of a results database — by default the latest run of each adapter there — with the technique
+//! reports' plots from `--include` folders.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use fragkit::harness::database::{Database, RunRef};
+use fragkit::harness::html::{Column, write_site};
+use fragkit::harness::report::Report;
+
+#[derive(clap::Args)]
+pub struct HtmlArgs {
+    /// JSON reports (`fragkit check --json`), one column each.
+    reports: Vec<PathBuf>,
+    /// A results database (an SQLite file or a postgres:// URL).
+    #[arg(long)]
+    db: Option<String>,
+    /// Runs of the database, one column each: an id, latest, latest~N, latest@GLOB or tag:NAME
+    /// (default: the latest run of each adapter).
+    #[arg(long = "run", requires = "db")]
+    runs: Vec<String>,
+    /// Folders `fragkit report` wrote: their plots and tables go on the reports page.
+    #[arg(long = "include")]
+    includes: Vec<PathBuf>,
+    /// Where to write the page set (created where missing).
+    #[arg(long)]
+    out: PathBuf,
+}
+
+pub fn html(args: HtmlArgs) -> Result<()> {
+    let mut columns = Vec::new();
+    for path in &args.reports {
+        columns.push(Column { label: path.display().to_string(), report: Report::read(path)? });
+    }
+    if let Some(location) = &args.db {
+        let mut db = Database::open(location)?;
+        let ids = if args.runs.is_empty() {
+            db.latest_per_adapter()?
+        } else {
+            args.runs.iter().map(|r| db.resolve(&RunRef::parse(r)?)).collect::<Result<_>>()?
+        };
+        for id in ids {
+            columns.push(Column { label: format!("run {id}"), report: db.load(id)? });
+        }
+    }
+    anyhow::ensure!(!columns.is_empty(), "nothing to show: give JSON reports or --db with runs in it");
+    for dir in &args.includes {
+        anyhow::ensure!(dir.is_dir(), "--include {}: not a folder", dir.display());
+    }
+    let index = write_site(&args.out, &columns, &args.includes)?;
+    println!("{}", index.display());
+    Ok(())
+}

@@ -1,0 +1,403 @@
+//! The HTML report: one self-contained static page set (no network, no external files) for a
+//! person or a CI artifact browser. `index.html` is the matrix of case runs × runs (a run per
+//! adapter, or runs over time) with outcomes; `case/N.html` each case run's outcome, reason,
+//! parameters, GPU time, metrics and evidence images side by side; `compare.html` the first run
+//! against the last (regressions, fixes, metric and GPU-time changes); `reports.html` the
+//! technique reports' plots and tables. Evidence and plots are copied under `files/`.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+
+use super::compare::{Comparison, GpuHistory, TimeJudgement, compare};
+use super::report::{CaseRecord, Report};
+
+/// One column of the matrix.
+pub struct Column {
+    /// e.g. "run 12" or a report's file name.
+    pub label: String,
+    pub report: Report,
+}
+
+/// Escapes text for HTML element content and attribute values.
+fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+const STYLE: &str = "
+body { font: 14px/1.4 system-ui, sans-serif; margin: 1.5em; color: #222; }
+table { border-collapse: collapse; margin: 0.5em 0 1.5em; }
+th, td { border: 1px solid #ccc; padding: 0.25em 0.5em; text-align: left; vertical-align: top; }
+th { background: #f3f3f3; }
+td.pass { background: #d9f2d9; } td.fail, td.unexpected_pass { background: #f7c6c6; font-weight: bold; }
+td.not_supported { background: #eee; color: #666; } td.known_issue { background: #fbe8c0; }
+td.flaky { background: #f3d1f3; font-weight: bold; } td.absent { color: #aaa; }
+pre { white-space: pre-wrap; background: #f7f7f7; padding: 0.5em; max-width: 70em; }
+.evidence { display: flex; flex-wrap: wrap; gap: 1em; }
+.evidence figure { margin: 0; } .evidence img { image-rendering: pixelated; min-width: 24em; max-width: 48em; border: 1px solid #ccc; }
+img.broken { outline: 3px solid red; }
+nav a { margin-right: 1em; }
+";
+
+/// Marks an evidence image that did not load, on the page and in the console (so that a
+/// browser test sees it).
+const SCRIPT: &str = "
+window.addEventListener('load', () => {
+  for (const img of document.images) {
+    if (!img.complete || img.naturalWidth === 0) {
+      img.classList.add('broken');
+      console.error('image did not load: ' + img.getAttribute('src'));
+    }
+  }
+});
+const filter = document.getElementById('filter');
+if (filter) {
+  filter.addEventListener('input', () => {
+    const needle = filter.value.toLowerCase();
+    for (const row of document.querySelectorAll('#matrix tr.case')) {
+      row.hidden = !row.dataset.name.toLowerCase().includes(needle);
+    }
+  });
+}
+";
+
+fn page(title: &str, depth: usize, body: &str) -> String {
+    let up = "../".repeat(depth);
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{title}</title><style>{STYLE}</style></head>\n<body>\n<nav><a href=\"{up}index.html\">matrix</a><a href=\"{up}compare.html\">comparison</a><a href=\"{up}reports.html\">technique reports</a></nav>\n<h1>{title}</h1>\n{body}\n<script>{SCRIPT}</script>\n</body></html>\n",
+        title = escape(title)
+    )
+}
+
+fn outcome_class(record: &CaseRecord) -> String {
+    serde_json::to_value(record.outcome).ok().and_then(|v| v.as_str().map(str::to_owned)).unwrap_or_default()
+}
+
+/// Writes the page set for `columns` into `dir`; `report_dirs` are folders `fragkit report`
+/// wrote (their PNG plots and markdown tables go on the reports page). Returns the index's path.
+pub fn write_site(dir: &Path, columns: &[Column], report_dirs: &[PathBuf]) -> Result<PathBuf> {
+    anyhow::ensure!(!columns.is_empty(), "an HTML report needs at least one run");
+    for sub in ["case", "files"] {
+        std::fs::create_dir_all(dir.join(sub)).with_context(|| format!("creating {}", dir.join(sub).display()))?;
+    }
+    // Case runs in order of first appearance across the columns.
+    let mut order: Vec<String> = Vec::new();
+    let mut cells: BTreeMap<String, Vec<Option<&CaseRecord>>> = BTreeMap::new();
+    for (i, column) in columns.iter().enumerate() {
+        for record in &column.report.cases {
+            let key = record.run_name();
+            let row = cells.entry(key.clone()).or_insert_with(|| {
+                order.push(key.clone());
+                vec![None; columns.len()]
+            });
+            row[i] = Some(record);
+        }
+    }
+    let mut copier = FileCopier { dir: dir.join("files"), copied: 0 };
+    let mut index = matrix(columns, &order, &cells);
+    for (n, key) in order.iter().enumerate() {
+        let body = case_page(columns, &cells[key], &mut copier)?;
+        write(&dir.join(format!("case/{n}.html")), &page(key, 1, &body))?;
+    }
+    let _ = write!(index, "<p>{} case runs in {} runs.</p>", order.len(), columns.len());
+    let index_path = dir.join("index.html");
+    write(&index_path, &page("fragkit results", 0, &index))?;
+    write(&dir.join("compare.html"), &page("Comparison", 0, &comparison_page(columns)))?;
+    write(&dir.join("reports.html"), &page("Technique reports", 0, &reports_page(report_dirs, &mut copier)?))?;
+    Ok(index_path)
+}
+
+fn write(path: &Path, text: &str) -> Result<()> {
+    std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
+}
+
+fn matrix(columns: &[Column], order: &[String], cells: &BTreeMap<String, Vec<Option<&CaseRecord>>>) -> String {
+    let mut html = String::from(
+        "<p><label>Filter cases: <input id=\"filter\" type=\"search\" placeholder=\"e.g. cps.\"></label></p>\n<table id=\"matrix\">\n<thead><tr><th>case run</th>",
+    );
+    for column in columns {
+        let a = &column.report.adapter;
+        let failures = column.report.failures(false);
+        let _ = write!(
+            html,
+            "<th>{}<br><small>{} ({})<br>{} {}<br>{} cases, {failures} unexpected failures</small></th>",
+            escape(&column.label),
+            escape(&a.name),
+            escape(&a.backend),
+            escape(&a.driver),
+            escape(&a.driver_info),
+            column.report.cases.len()
+        );
+    }
+    html.push_str("</tr></thead>\n<tbody>\n");
+    for (n, key) in order.iter().enumerate() {
+        let _ = write!(
+            html,
+            "<tr class=\"case\" data-name=\"{}\"><td><a href=\"case/{n}.html\">{}</a></td>",
+            escape(key),
+            escape(key)
+        );
+        for cell in &cells[key] {
+            match cell {
+                Some(record) => {
+                    let reason = record.reason.lines().next().unwrap_or_default();
+                    let _ = write!(
+                        html,
+                        "<td class=\"{}\" title=\"{}\"><a href=\"case/{n}.html\">{}</a></td>",
+                        outcome_class(record),
+                        escape(reason),
+                        record.outcome.label()
+                    );
+                }
+                None => html.push_str("<td class=\"absent\">—</td>"),
+            }
+        }
+        html.push_str("</tr>\n");
+    }
+    html.push_str("</tbody></table>\n");
+    html
+}
+
+/// Copies evidence and plots under `files/` with unique names.
+struct FileCopier {
+    dir: PathBuf,
+    copied: usize,
+}
+
+impl FileCopier {
+    /// The copy's path relative to the site's root, or None where the file is gone.
+    fn copy(&mut self, source: &Path) -> Result<Option<String>> {
+        if !source.is_file() {
+            return Ok(None);
+        }
+        let name = source.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let name: String = name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '.' { c } else { '_' }).collect();
+        let target = format!("{}_{name}", self.copied);
+        self.copied += 1;
+        std::fs::copy(source, self.dir.join(&target))
+            .with_context(|| format!("copying {} into the HTML report", source.display()))?;
+        Ok(Some(format!("files/{target}")))
+    }
+}
+
+fn case_page(columns: &[Column], cells: &[Option<&CaseRecord>], copier: &mut FileCopier) -> Result<String> {
+    let mut html = String::new();
+    for (column, cell) in columns.iter().zip(cells) {
+        let Some(record) = cell else { continue };
+        let _ = write!(
+            html,
+            "<h2>{} — {} ({})</h2>\n<table><tr><th>outcome</th><td class=\"{}\">{}</td></tr>",
+            escape(&column.label),
+            escape(&column.report.adapter.name),
+            escape(&column.report.adapter.backend),
+            outcome_class(record),
+            record.outcome.label()
+        );
+        let gpu = match (record.gpu_ms, record.gpu_ms_repeats.len()) {
+            (Some(ms), 0) => format!("{ms:.3} ms"),
+            (Some(ms), n) => format!("{ms:.3} ms (median of {n}: {:?})", record.gpu_ms_repeats),
+            (None, _) => "not measured".to_owned(),
+        };
+        let _ = write!(
+            html,
+            "<tr><th>GPU time</th><td>{}</td></tr><tr><th>wall time</th><td>{:.1} ms</td></tr><tr><th>attempts</th><td>{}</td></tr>",
+            escape(&gpu),
+            record.wall_ms,
+            record.attempts
+        );
+        for (name, value) in &record.params {
+            let value = serde_json::to_string(value).unwrap_or_default();
+            let _ = write!(html, "<tr><th>{}</th><td>{}</td></tr>", escape(name), escape(&value));
+        }
+        html.push_str("</table>\n");
+        if !record.reason.is_empty() {
+            let _ = writeln!(html, "<h3>Reason</h3><pre>{}</pre>", escape(&record.reason));
+        }
+        let metrics = record.numeric_metrics();
+        if !metrics.is_empty() {
+            html.push_str("<h3>Metrics</h3><table><tr><th>metric</th><th>value</th></tr>");
+            for (name, value) in &metrics {
+                let _ = write!(html, "<tr><td>{}</td><td>{value}</td></tr>", escape(name));
+            }
+            html.push_str("</table>\n");
+        }
+        if !record.evidence.is_empty() {
+            html.push_str("<h3>Evidence</h3><div class=\"evidence\">");
+            for path in &record.evidence {
+                let caption = escape(&path.display().to_string());
+                match copier.copy(path)? {
+                    Some(copy) => {
+                        let _ = write!(
+                            html,
+                            "<figure><img src=\"../{copy}\" alt=\"{caption}\"><figcaption>{caption}</figcaption></figure>"
+                        );
+                    }
+                    None => {
+                        let _ = write!(html, "<p>missing when this page was made: {caption}</p>");
+                    }
+                }
+            }
+            html.push_str("</div>\n");
+        }
+    }
+    Ok(html)
+}
+
+fn comparison_page(columns: &[Column]) -> String {
+    let [first, .., last] = columns else {
+        return "<p>One run: nothing to compare. Give two runs or more; the first is compared with the last.</p>"
+            .to_owned();
+    };
+    let comparison = compare(&first.report, &last.report, &TimeJudgement::default(), &GpuHistory::default());
+    comparison_html(&comparison, &first.label, &last.label)
+}
+
+fn comparison_html(c: &Comparison, base: &str, new: &str) -> String {
+    let mut html = format!(
+        "<p><b>{}</b> against <b>{}</b>: {} regressions, {} fixes, {} other outcome changes, {} metric changes, {} GPU times slower beyond the noise.</p>\n",
+        escape(new),
+        escape(base),
+        c.regressions.len(),
+        c.fixes.len(),
+        c.other_changes.len(),
+        c.metric_changes.len(),
+        c.time_changes.iter().filter(|t| t.regression).count()
+    );
+    for (title, id, changes) in [
+        ("Regressions", "regressions", &c.regressions),
+        ("Fixes", "fixes", &c.fixes),
+        ("Other outcome changes", "other", &c.other_changes),
+    ] {
+        let _ = write!(html, "<h2>{title}</h2>");
+        if changes.is_empty() {
+            html.push_str("<p>none</p>");
+            continue;
+        }
+        let _ = write!(html, "<table id=\"{id}\"><tr><th>case run</th><th>was</th><th>now</th><th>reason</th></tr>");
+        for change in changes {
+            let _ = write!(
+                html,
+                "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+                escape(&change.case),
+                change.base.label(),
+                change.new.label(),
+                escape(change.reason.lines().next().unwrap_or_default())
+            );
+        }
+        html.push_str("</table>\n");
+    }
+    if !c.metric_changes.is_empty() {
+        html.push_str(
+            "<h2>Metric changes</h2><table><tr><th>case run</th><th>metric</th><th>was</th><th>now</th></tr>",
+        );
+        for m in &c.metric_changes {
+            let _ = write!(
+                html,
+                "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+                escape(&m.case),
+                escape(&m.metric),
+                m.base,
+                m.new
+            );
+        }
+        html.push_str("</table>\n");
+    }
+    let judged: Vec<_> = c.time_changes.iter().filter(|t| t.regression || t.improvement).collect();
+    if !judged.is_empty() {
+        html.push_str("<h2>GPU time beyond the noise</h2><table><tr><th>case run</th><th>base ms</th><th>new ms</th><th>new / base</th></tr>");
+        for t in judged {
+            let _ = write!(
+                html,
+                "<tr><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td></tr>",
+                escape(&t.case),
+                t.base_ms,
+                t.new_ms,
+                t.ratio()
+            );
+        }
+        html.push_str("</table>\n");
+    }
+    for (title, cases) in [("Only in the base run", &c.only_in_base), ("Only in the new run", &c.only_in_new)] {
+        if !cases.is_empty() {
+            let items: Vec<String> = cases.iter().map(|k| format!("<li>{}</li>", escape(k))).collect();
+            let _ = write!(html, "<h2>{title}</h2><ul>{}</ul>", items.join(""));
+        }
+    }
+    html
+}
+
+fn reports_page(report_dirs: &[PathBuf], copier: &mut FileCopier) -> Result<String> {
+    if report_dirs.is_empty() {
+        return Ok("<p>No technique reports were given (<code>fragkit html --include DIR</code>, a folder \
+                   <code>fragkit report</code> wrote).</p>"
+            .to_owned());
+    }
+    let mut html = String::new();
+    for dir in report_dirs {
+        let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
+            .with_context(|| format!("reading the report folder {}", dir.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .collect();
+        entries.sort();
+        let _ = write!(html, "<h2>{}</h2>", escape(&dir.display().to_string()));
+        for path in entries {
+            match path.extension().and_then(|e| e.to_str()) {
+                Some("png") => {
+                    if let Some(copy) = copier.copy(&path)? {
+                        let caption = escape(&path.display().to_string());
+                        let _ = write!(
+                            html,
+                            "<figure><img src=\"{copy}\" alt=\"{caption}\"><figcaption>{caption}</figcaption></figure>"
+                        );
+                    }
+                }
+                Some("md") => {
+                    let text = std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
+                    let _ = write!(
+                        html,
+                        "<details><summary>{}</summary><pre>{}</pre></details>",
+                        escape(&path.display().to_string()),
+                        escape(&text)
+                    );
+                }
+                _ => {}
+            }
+        }
+    }
+    Ok(html)
+}
+
+/// Writes the single-run page set when `fragkit check --html DIR` finishes.
+pub struct HtmlSink<'a> {
+    pub dir: &'a Path,
+}
+
+impl super::run::Sink for HtmlSink<'_> {
+    fn finish(&mut self, report: &Report) -> Result<()> {
+        let column = Column { label: "this run".to_owned(), report: report.clone() };
+        write_site(self.dir, &[column], &[]).map(|_| ())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn text_from_reports_cannot_open_tags() {
+        assert_eq!(escape("<img src=x onerror=\"a&b\">"), "&lt;img src=x onerror=&quot;a&amp;b&quot;&gt;");
+    }
+}
