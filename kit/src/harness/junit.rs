@@ -172,4 +172,47 @@ mod tests {
         assert!(xml.contains("llvmpipe &lt;x&gt;"));
         assert!(to_junit(&report, true).contains("failures=\"2\""));
     }
+
+    /// xmllint (Debian's libxml2-utils, installed by .ci/setup), or None with a note outside CI.
+    fn xmllint() -> Option<&'static str> {
+        let found = std::process::Command::new("xmllint").arg("--version").output().is_ok_and(|o| o.status.success());
+        if !found {
+            assert!(std::env::var_os("CI").is_none(), "CI must validate the JUnit XML: .ci/setup installs xmllint");
+            eprintln!("note: no xmllint here (bash .ci/setup installs it): schema validation skipped");
+        }
+        found.then_some("xmllint")
+    }
+
+    #[test]
+    fn every_outcome_validates_against_the_junit_schema_readers_take() {
+        let Some(xmllint) = xmllint() else { return };
+        let mut cases: Vec<CaseRecord> = [
+            ReportedOutcome::Pass,
+            ReportedOutcome::Fail,
+            ReportedOutcome::NotSupported,
+            ReportedOutcome::KnownIssue,
+            ReportedOutcome::UnexpectedPass,
+            ReportedOutcome::Flaky,
+        ]
+        .into_iter()
+        .enumerate()
+        .map(|(i, outcome)| record(&format!("kit.case{i}"), outcome, "why <1> & \u{7} \"two\"\nlines"))
+        .collect();
+        // A sweep: one case run twice with different parameters.
+        cases.push(CaseRecord {
+            params: [("n".to_owned(), super::super::params::ParamValue::Count(2))].into(),
+            ..record("kit.case0", ReportedOutcome::Pass, "")
+        });
+        let report = Report { adapter: AdapterDescription::default(), cases };
+        let schema = concat!(env!("CARGO_MANIFEST_DIR"), "/src/harness/junit.xsd");
+        for flaky_fails in [false, true] {
+            let path = std::env::temp_dir().join(format!("fragkit-junit-{}-{flaky_fails}.xml", std::process::id()));
+            write_junit(&report, &path, flaky_fails).unwrap();
+            let output =
+                std::process::Command::new(xmllint).args(["--noout", "--schema", schema]).arg(&path).output().unwrap();
+            let text = String::from_utf8_lossy(&output.stderr).into_owned();
+            assert!(output.status.success(), "{text}\n{}", to_junit(&report, flaky_fails));
+            std::fs::remove_file(&path).ok();
+        }
+    }
 }
