@@ -10,9 +10,8 @@ pub mod html;
 pub mod import;
 pub mod list;
 pub mod merge;
-pub mod render;
-pub mod report;
 pub mod table;
+pub mod technique;
 
 use std::path::PathBuf;
 
@@ -47,12 +46,12 @@ pub enum Command {
     /// Render a technique's intermediates and results as PNGs for a person to look at.
     Render {
         #[command(subcommand)]
-        technique: render::Technique,
+        technique: technique::RenderCommand,
     },
     /// Sweep a technique's settings and write error against GPU time (JSON, markdown, PNG plot).
     Report {
         #[command(subcommand)]
-        technique: report::ReportTechnique,
+        technique: technique::ReportCommand,
     },
     /// Time each technique against its baseline in rounds (speed-ups, where the time goes);
     /// record them with --db.
