@@ -56,7 +56,7 @@ impl Bench for CpsBench {
             .collect()
     }
 
-    fn baseline(&self) -> usize {
+    fn baseline(&self, _variant: usize) -> usize {
         0
     }
 

@@ -34,13 +34,14 @@ impl Sample {
     }
 }
 
-/// A set of variants timed against one baseline.
+/// A set of variants, each timed against its baseline.
 pub trait Bench {
     /// The scene and size, e.g. `cps_640x360_200_lights`.
     fn name(&self) -> String;
     fn variants(&self) -> Vec<String>;
-    /// The variant the others' speed-ups are measured against.
-    fn baseline(&self) -> usize;
+    /// The variant `variant`'s speed-up is measured against: one that does the same work but
+    /// for what the technique saves.
+    fn baseline(&self, variant: usize) -> usize;
     /// Renders one frame of `variant` and times it.
     fn run(&mut self, gpu: &Gpu, variant: usize) -> Result<Sample>;
     /// Metrics derived from a variant's medians and the baseline's (e.g. CPS's ideal speed-up),
@@ -75,7 +76,9 @@ pub struct VariantSummary {
     /// GPU time of every round, in order.
     pub gpu_ms: Vec<f64>,
     pub median_ms: f64,
-    /// Median over the rounds of baseline / this variant (1 for the baseline).
+    /// The variant this one's speed-up is measured against.
+    pub baseline: String,
+    /// Median over the rounds of baseline / this variant (1 for a baseline).
     pub speedup: f64,
     /// Median of each part over the rounds.
     pub parts: BTreeMap<String, f64>,
@@ -91,7 +94,6 @@ pub struct BenchResult {
     pub bench: String,
     pub adapter: AdapterDescription,
     pub rounds: usize,
-    pub baseline: String,
     pub variants: Vec<VariantSummary>,
     /// Wall time of the measured rounds, in milliseconds.
     pub wall_ms: f64,
@@ -115,11 +117,12 @@ pub fn measure(gpu: &Gpu, technique: &str, bench: &mut dyn Bench, rounds: usize)
         }
     }
     let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-    let baseline = bench.baseline();
+    let baselines: Vec<usize> = (0..variants.len()).map(|v| bench.baseline(v)).collect();
     let mut summaries: Vec<VariantSummary> = variants
         .iter()
         .zip(&samples)
-        .map(|(name, own)| {
+        .zip(&baselines)
+        .map(|((name, own), &baseline)| {
             let gpu_ms: Vec<f64> = own.iter().map(|s| s.gpu_ms).collect();
             let ratios = samples[baseline].iter().zip(own).map(|(b, s)| b.gpu_ms / s.gpu_ms).collect();
             let mut parts = BTreeMap::new();
@@ -132,6 +135,7 @@ pub fn measure(gpu: &Gpu, technique: &str, bench: &mut dyn Bench, rounds: usize)
                 name: name.clone(),
                 median_ms: median(gpu_ms.clone()),
                 gpu_ms,
+                baseline: variants[baseline].clone(),
                 speedup: median(ratios),
                 parts,
                 counts: own[0].counts.iter().map(|(c, n)| ((*c).to_owned(), *n)).collect(),
@@ -140,16 +144,15 @@ pub fn measure(gpu: &Gpu, technique: &str, bench: &mut dyn Bench, rounds: usize)
             }
         })
         .collect();
-    let baseline_summary = summaries[baseline].clone();
-    for summary in &mut summaries {
-        (summary.derived, summary.explanation) = bench.explain(summary, &baseline_summary);
+    let unexplained = summaries.clone();
+    for (summary, &baseline) in summaries.iter_mut().zip(&baselines) {
+        (summary.derived, summary.explanation) = bench.explain(summary, &unexplained[baseline]);
     }
     Ok(BenchResult {
         technique: technique.to_owned(),
         bench: bench.name(),
         adapter: gpu.description.clone(),
         rounds,
-        baseline: variants[baseline].clone(),
         variants: summaries,
         wall_ms,
     })
@@ -159,13 +162,18 @@ impl BenchResult {
     /// Lines for a person: each variant's median time and speed-up, and where its time goes.
     pub fn lines(&self) -> Vec<String> {
         let mut lines = vec![format!(
-            "{} on {} ({}), median of {} rounds, speed-up over {}:",
-            self.bench, self.adapter.name, self.adapter.backend, self.rounds, self.baseline
+            "{} {} on {} ({}), medians of {} rounds:",
+            self.technique, self.bench, self.adapter.name, self.adapter.backend, self.rounds
         )];
         for v in &self.variants {
             let parts: Vec<String> = v.parts.iter().map(|(p, ms)| format!("{p} {ms:.2}")).collect();
             let parts = if parts.is_empty() { String::new() } else { format!(" ({})", parts.join(", ")) };
-            lines.push(format!("  {:<28} {:>9.2} ms{parts}  {:.2}x", v.name, v.median_ms, v.speedup));
+            let speedup = if v.baseline == v.name {
+                "baseline".to_owned()
+            } else {
+                format!("{:.2}x over {}", v.speedup, v.baseline)
+            };
+            lines.push(format!("  {:<28} {:>9.2} ms{parts}  {speedup}", v.name, v.median_ms));
             if let Some(explanation) = &v.explanation {
                 lines.push(format!("  {:<28} {explanation}", ""));
             }
@@ -194,7 +202,7 @@ impl BenchResult {
                 CaseRecord {
                     name: format!("bench.{}.{}.{}", self.technique, self.bench, v.name),
                     outcome: ReportedOutcome::Pass,
-                    reason: format!("{:.2}x over {}", v.speedup, self.baseline),
+                    reason: format!("{:.2}x over {}", v.speedup, v.baseline),
                     params: BTreeMap::new(),
                     metrics,
                     gpu_ms: Some(v.median_ms),

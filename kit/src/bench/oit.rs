@@ -41,7 +41,7 @@ impl Bench for OitBench {
         self.methods.iter().map(|(name, ..)| (*name).to_owned()).collect()
     }
 
-    fn baseline(&self) -> usize {
+    fn baseline(&self, _variant: usize) -> usize {
         0
     }
 

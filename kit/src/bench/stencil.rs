@@ -32,7 +32,7 @@ impl Bench for EarlyRejectionBench {
         vec!["stencil_always".to_owned(), "stencil_equal_1.98pct".to_owned()]
     }
 
-    fn baseline(&self) -> usize {
+    fn baseline(&self, _variant: usize) -> usize {
         0
     }
 

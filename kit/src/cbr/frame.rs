@@ -370,7 +370,13 @@ fn view_of_depth(passes: &FramePasses, frame: &CheckerboardFrame) -> wgpu::Textu
 
 /// `SampleShading` in the shade passes: inverse view-projection, screen, quarter size, eye,
 /// light count, phase.
-fn shading_uniform(gpu: &Gpu, view: &FrameView, screen: (u32, u32), phase: u32, light_count: u32) -> wgpu::Buffer {
+pub(crate) fn shading_uniform(
+    gpu: &Gpu,
+    view: &FrameView,
+    screen: (u32, u32),
+    phase: u32,
+    light_count: u32,
+) -> wgpu::Buffer {
     let (qw, qh) = quarter_size(screen);
     let mut words: Vec<u32> = view.full_from_world.inverse().to_cols_array().map(f32::to_bits).to_vec();
     words.extend([(screen.0 as f32).to_bits(), (screen.1 as f32).to_bits(), qw, qh]);

@@ -4,6 +4,7 @@
 use anyhow::{Result, ensure};
 use serde::Serialize;
 
+use super::deferred_full_resolution::DeferredFullResolution;
 use super::frame::{BACKGROUND, CheckerboardFrame, FramePasses, TARGET_USAGE, layout_size};
 use super::plan::{CheckerboardPlan, Shading};
 use super::reconstruct::{Detection, Reconstruction, ReconstructionInputs};
@@ -53,11 +54,12 @@ pub fn check_checkerboard_screen(gpu: &Gpu, screen: (u32, u32)) -> Result<()> {
     Ok(())
 }
 
-/// One rendered frame: its GPU time and the passes that ran.
+/// One rendered frame: its GPU time and the passes that ran, with each one's time.
 #[derive(Clone, Debug)]
 pub struct RenderedFrame {
     pub gpu_ms: f64,
     pub passes: Vec<String>,
+    pub pass_ms: Vec<f64>,
 }
 
 /// A checkerboard renderer for one scene: frames N and N−1 ping-pong between two targets.
@@ -135,6 +137,7 @@ impl Checkerboard {
         let times = self.timer.read(gpu)?;
         Ok(RenderedFrame {
             gpu_ms: times.iter().map(|t| t.ms).sum(),
+            pass_ms: times.iter().map(|t| t.ms).collect(),
             passes: times.into_iter().map(|t| t.label).collect(),
         })
     }
@@ -198,32 +201,63 @@ impl ForwardImage {
     }
 }
 
-/// The reference: every pixel of the frame shaded at full resolution.
+/// The reference: every pixel of the frame shaded at full resolution — forward (the image the
+/// cases measure against), or deferred (the timing baseline of deferred checkerboarding).
 pub struct FullResolutionScene {
-    image: ForwardImage,
+    image: FullResolutionImage,
     screen: (u32, u32),
 }
 
+enum FullResolutionImage {
+    Forward(ForwardImage),
+    Deferred(Box<DeferredFullResolution>),
+}
+
 impl FullResolutionScene {
+    /// Forward full resolution.
     pub fn new(gpu: &Gpu, scene: &CheckerboardScene, screen: (u32, u32)) -> Result<Self> {
+        Self::shaded(gpu, scene, screen, Shading::Forward)
+    }
+
+    /// Full resolution shaded the way `shading` says.
+    pub fn shaded(gpu: &Gpu, scene: &CheckerboardScene, screen: (u32, u32), shading: Shading) -> Result<Self> {
         crate::deferred::gbuffer::check_size(gpu, screen)?;
-        Ok(Self { image: ForwardImage::new(gpu, scene, screen)?, screen })
+        let image = match shading {
+            Shading::Forward => FullResolutionImage::Forward(ForwardImage::new(gpu, scene, screen)?),
+            Shading::Deferred => {
+                FullResolutionImage::Deferred(Box::new(DeferredFullResolution::new(gpu, scene, screen)?))
+            }
+        };
+        Ok(Self { image, screen })
     }
 
     pub fn output(&self) -> &wgpu::Texture {
-        &self.image.colour
+        match &self.image {
+            FullResolutionImage::Forward(image) => &image.colour,
+            FullResolutionImage::Deferred(image) => &image.colour,
+        }
     }
 
     /// Renders frame `index`; its GPU time.
     pub fn render(&mut self, gpu: &Gpu, index: u32) -> Result<f64> {
-        gpu.scoped("full-resolution frame", || {
+        let screen = self.screen;
+        let timer = gpu.scoped("full-resolution frame", || {
             let mut encoder = gpu.encoder("full-resolution frame");
-            self.image.record(gpu, &mut encoder, index, self.screen, glam::Mat4::IDENTITY, TextureLod::Bias(0.0));
-            self.image.timer.resolve(&mut encoder);
+            let timer = match &mut self.image {
+                FullResolutionImage::Forward(image) => {
+                    image.record(gpu, &mut encoder, index, screen, glam::Mat4::IDENTITY, TextureLod::Bias(0.0));
+                    &mut image.timer
+                }
+                FullResolutionImage::Deferred(image) => {
+                    image.record(gpu, &mut encoder, index);
+                    &mut image.timer
+                }
+            };
+            timer.resolve(&mut encoder);
             gpu.submit(encoder);
-            Ok(())
+            Ok(timer)
         })?;
-        Ok(self.image.timer.read(gpu)?.iter().map(|t| t.ms).sum())
+        Ok(timer.read(gpu)?.iter().map(|t| t.ms).sum())
     }
 }
 
