@@ -209,7 +209,7 @@ pub struct FullResolutionScene {
 }
 
 enum FullResolutionImage {
-    Forward(ForwardImage),
+    Forward(Box<ForwardImage>),
     Deferred(Box<DeferredFullResolution>),
 }
 
@@ -223,7 +223,7 @@ impl FullResolutionScene {
     pub fn shaded(gpu: &Gpu, scene: &CheckerboardScene, screen: (u32, u32), shading: Shading) -> Result<Self> {
         crate::deferred::gbuffer::check_size(gpu, screen)?;
         let image = match shading {
-            Shading::Forward => FullResolutionImage::Forward(ForwardImage::new(gpu, scene, screen)?),
+            Shading::Forward => FullResolutionImage::Forward(Box::new(ForwardImage::new(gpu, scene, screen)?)),
             Shading::Deferred => {
                 FullResolutionImage::Deferred(Box::new(DeferredFullResolution::new(gpu, scene, screen)?))
             }
