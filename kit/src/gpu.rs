@@ -65,6 +65,8 @@ pub struct Gpu {
     clock: Option<Mutex<EncoderClock>>,
     /// Why the device was lost, once it is (set by wgpu's device-lost callback).
     lost: std::sync::Arc<Mutex<Option<String>>>,
+    /// How renderers fetch at a per-pixel mip level on this device, once probed.
+    pub(crate) level_fetch: std::sync::OnceLock<crate::probe::mip_fetch::LevelFetch>,
 }
 
 /// A command encoder whose GPU time counts towards the running case.
@@ -193,7 +195,15 @@ impl Gpu {
             .features()
             .contains(wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
             .then(|| Mutex::new(EncoderClock::new(&device, &queue)));
-        Ok(Self { description: AdapterDescription::of(&info), adapter, device, queue, clock, lost })
+        Ok(Self {
+            description: AdapterDescription::of(&info),
+            adapter,
+            device,
+            queue,
+            clock,
+            lost,
+            level_fetch: std::sync::OnceLock::new(),
+        })
     }
 
     /// Why the device was lost, or None while it works. Polls first, so that a loss the driver

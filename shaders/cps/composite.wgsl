@@ -1,6 +1,8 @@
 // Composite: every pixel takes its colour from the lit levels. Three modes: nearest (plain CPS:
 // the pixel's own coarse texel), the original method's 4-neighbour interpolation, and our
-// seam-free trilinear reconstruction over the pull-push filled pyramid.
+// seam-free trilinear reconstruction over the pull-push filled pyramid. Every fetch at a
+// per-pixel level goes through load_at_level (common/fullscreen.wgsl), which the renderer sets
+// to loop over the levels where the kit's probe found the direct fetch wrong.
 
 struct Composite {
     max_level: u32,
@@ -13,6 +15,7 @@ struct Composite {
 @group(0) @binding(1) var lod: texture_2d<u32>;
 @group(0) @binding(2) var lit: texture_2d<f32>;
 
+
 fn level_of(pixel: vec2i) -> u32 {
     let clamped = vec2u(clamp(pixel, vec2i(0), vec2i(composite.screen) - 1));
     return min(textureLoad(lod, clamped, 0).x, composite.max_level);
@@ -22,7 +25,7 @@ fn level_of(pixel: vec2i) -> u32 {
 fn coarse_colour(pixel: vec2i) -> vec4f {
     let clamped = vec2u(clamp(pixel, vec2i(0), vec2i(composite.screen) - 1));
     let level = level_of(pixel);
-    return textureLoad(lit, clamped >> vec2u(level), i32(level));
+    return load_at_level(lit, vec2i(clamped >> vec2u(level)), level);
 }
 
 // The pixel just outside the coarse fragment holding `pixel`, along `axis` (0 = x, 1 = y), on the

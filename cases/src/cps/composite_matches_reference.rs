@@ -58,6 +58,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             let renderer = CpsRenderer::new(ctx.gpu, size, CpsConfig::new(max_level, policy.clone(), composite))?;
             renderer.render(ctx.gpu, &frame(&inputs))?;
             top_level = renderer.plan.top_level;
+            // The fetch the renderer chose from the kit's probe (loop counter on GL llvmpipe).
+            ctx.metric("level_fetch", renderer.plan.level_fetch.name());
             let gpu_image = as_texels(&renderer.read_image(ctx.gpu)?);
 
             // Expected: the CPU composite of the GPU's own inputs.

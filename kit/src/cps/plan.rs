@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use super::config::{CompositeMode, CpsConfig, LodPolicy};
 use crate::gpu::Gpu;
+use crate::probe::mip_fetch::LevelFetch;
 
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Plan {
@@ -27,6 +28,9 @@ pub struct Plan {
     pub stencil_pyramid: bool,
     pub edge_pyramid: bool,
     pub fill_pyramid: bool,
+    /// How the composite fetches at each pixel's level: directly, or by a loop over the levels
+    /// where the kit's probe found the direct fetch wrong on this adapter (GL llvmpipe).
+    pub level_fetch: LevelFetch,
 }
 
 /// Levels needed until one fragment covers a screen side of `extent` pixels.
@@ -63,6 +67,7 @@ impl Plan {
             stencil_pyramid: !config.shade_every_texel,
             edge_pyramid: matches!(config.policy, LodPolicy::Content { .. }),
             fill_pyramid: config.composite == CompositeMode::SeamFree,
+            level_fetch: LevelFetch::for_adapter(gpu)?,
         })
     }
 

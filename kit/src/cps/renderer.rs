@@ -15,6 +15,7 @@ use crate::deferred::lighting::{HDR, shading_uniform};
 use crate::deferred::lights::LightTexture;
 use crate::fullscreen::{FullscreenPipeline, bind_group, bind_group_at, uniform_buffer};
 use crate::gpu::Gpu;
+use crate::probe::mip_fetch::LevelFetch;
 use crate::query::{GpuTimer, OcclusionQueries, PassTime};
 use crate::rects::stencil_state;
 use crate::shaders;
@@ -229,12 +230,17 @@ impl CpsRenderer {
                     .then(|| stencil_state(STENCIL, wgpu::CompareFunction::Equal, wgpu::StencilOperation::Keep)),
             ),
             fill_pipelines,
-            composite_pipeline: fullscreen(
-                "composite",
-                shaders::CPS_COMPOSITE,
-                config.composite.entry_point(),
-                Some(HDR),
-                None,
+            composite_pipeline: FullscreenPipeline {
+                label: "composite",
+                fragment: shaders::CPS_COMPOSITE,
+                entry_point: config.composite.entry_point(),
+                targets: &[Some(HDR.into())],
+                depth_stencil: None,
+                samples: 1,
+            }
+            .create_with_constants(
+                gpu,
+                &[("LOOP_COUNTER_FETCH", f64::from(plan.level_fetch == LevelFetch::LoopCounter))],
             ),
             config,
             plan,
