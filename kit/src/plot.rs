@@ -1,16 +1,21 @@
-//! Plots (PNG): error against time (one point per measured configuration, one colour per method,
-//! GPU time on x, error on y) and histories (one line per series over runs, marked points). Text uses the bundled DejaVu Sans (kit/fonts), so no system fonts
-//! are needed.
+//! Plots (PNG): trade-offs of error against time (one line per method through its sweep, a
+//! distinct colour and marker per method, the error on a log axis, the Pareto front marked) and
+//! histories (one line per series over runs, marked points). Text uses the bundled DejaVu Sans
+//! (kit/fonts), so no system fonts are needed.
 
 use std::path::Path;
 
 use anyhow::{Context, Result, anyhow};
 use plotters::prelude::*;
 
-/// One plotted point.
+/// One measured configuration of a trade-off plot.
 #[derive(Clone, Debug)]
 pub struct PlotPoint {
+    /// The method: one line, colour and marker.
     pub series: String,
+    /// Where the configuration lies in the method's sweep (frames, level, sequence): the line
+    /// joins a method's points in this order.
+    pub step: f64,
     pub x: f64,
     pub y: f64,
 }
@@ -23,7 +28,9 @@ fn register_font() -> Result<()> {
     if ok { Ok(()) } else { Err(anyhow!("the bundled font could not be registered")) }
 }
 
-const PALETTE: [RGBColor; 8] = [
+/// Distinct colours (Tableau 10, then two darker ones); series beyond them repeat a colour with
+/// another marker.
+const PALETTE: [RGBColor; 12] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
@@ -32,7 +39,70 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(140, 86, 75),
     RGBColor(227, 119, 194),
     RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+    RGBColor(0, 0, 128),
+    RGBColor(128, 0, 0),
 ];
+
+/// Marker shapes, cycled with a period coprime to the palette's.
+const MARKERS: usize = 5;
+
+/// The chart of a trade-off plot: linear time, log error.
+type TradeoffChart<'a, 'b> =
+    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<plotters::coord::types::RangedCoordf64, LogCoord<f64>>>;
+
+/// Draws `points` with marker `shape` (0..MARKERS) in `colour`, labelled `name` in the legend.
+fn draw_markers<'a, 'b: 'a>(
+    chart: &mut TradeoffChart<'a, 'b>,
+    shape: usize,
+    name: &str,
+    points: &[(f64, f64)],
+    colour: RGBColor,
+) -> Result<()> {
+    let style = colour.filled();
+    let error = |e: plotters::drawing::DrawingAreaErrorKind<_>| anyhow!("{e}");
+    let anno = match shape % MARKERS {
+        0 => {
+            let anno = chart.draw_series(points.iter().map(|&at| Circle::new(at, 5, style))).map_err(error)?;
+            anno.label(name).legend(move |at| Circle::new(at, 5, style))
+        }
+        1 => {
+            let anno = chart.draw_series(points.iter().map(|&at| TriangleMarker::new(at, 7, style))).map_err(error)?;
+            anno.label(name).legend(move |at| TriangleMarker::new(at, 7, style))
+        }
+        2 => {
+            let square = move |at| EmptyElement::at(at) + Rectangle::new([(-5, -5), (5, 5)], style);
+            let anno = chart.draw_series(points.iter().map(|&at| square(at))).map_err(error)?;
+            anno.label(name).legend(move |at| EmptyElement::at(at) + Rectangle::new([(-5, -5), (5, 5)], style))
+        }
+        3 => {
+            let ring = colour.stroke_width(2);
+            let anno = chart.draw_series(points.iter().map(|&at| Circle::new(at, 6, ring))).map_err(error)?;
+            anno.label(name).legend(move |at| Circle::new(at, 6, ring))
+        }
+        _ => {
+            let stroke = colour.stroke_width(3);
+            let anno = chart.draw_series(points.iter().map(|&at| Cross::new(at, 6, stroke))).map_err(error)?;
+            anno.label(name).legend(move |at| Cross::new(at, 6, stroke))
+        }
+    };
+    let _ = anno;
+    Ok(())
+}
+
+/// The points no other point beats in both time and error, by increasing time.
+pub fn pareto_front(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut sorted: Vec<(f64, f64)> = points.to_vec();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let mut front: Vec<(f64, f64)> = Vec::new();
+    for p in sorted {
+        if front.last().is_none_or(|last| p.1 < last.1) {
+            front.push(p);
+        }
+    }
+    front
+}
 
 /// The chart every plot draws into: 960×640, white, title and axis labels, the given ranges.
 type Chart<'a, 'b> = ChartContext<
@@ -84,29 +154,91 @@ fn chart_png(
     image.save(path).with_context(|| format!("writing the plot {}", path.display()))
 }
 
-/// Writes a scatter plot of `points` to `path` (PNG, 960×640).
-pub fn scatter(path: &Path, title: &str, x_label: &str, y_label: &str, points: &[PlotPoint]) -> Result<()> {
-    let finite: Vec<&PlotPoint> = points.iter().filter(|p| p.x.is_finite() && p.y.is_finite()).collect();
+/// Writes a trade-off plot of `points` to `path` (PNG, 960×640): time on x (linear), error on y
+/// (log: errors span decades; an error of 0 — exact — is drawn on the axis floor), one line per
+/// series through its points in step order with a distinct colour and marker, and the Pareto
+/// front (no point both faster and more exact) as a dashed black line.
+pub fn tradeoff(path: &Path, title: &str, x_label: &str, y_label: &str, points: &[PlotPoint]) -> Result<()> {
+    register_font()?;
+    let finite: Vec<&PlotPoint> = points.iter().filter(|p| p.x.is_finite() && p.y.is_finite() && p.y >= 0.0).collect();
     let max_x = finite.iter().map(|p| p.x).fold(0.0, f64::max).max(1e-3) * 1.05;
-    let max_y = finite.iter().map(|p| p.y).fold(0.0, f64::max).max(1e-3) * 1.1;
+    let smallest = finite.iter().map(|p| p.y).filter(|&y| y > 0.0).fold(f64::INFINITY, f64::min);
+    // Whole decades, so that the log axis has labelled ticks at both ends.
+    let floor = if smallest.is_finite() { 10f64.powf((smallest / 2.0).log10().floor()) } else { 1e-6 };
+    let largest = finite.iter().map(|p| p.y).fold(floor, f64::max);
+    let max_y = 10f64.powf((largest * 1.5).log10().ceil()).max(floor * 10.0);
+    let shown = |y: f64| y.max(floor);
     let mut series: Vec<&str> = Vec::new();
     for p in &finite {
         if !series.contains(&p.series.as_str()) {
             series.push(&p.series);
         }
     }
-    chart_png(path, title, (x_label, y_label), (0.0..max_x, 0.0..max_y), |chart| {
+    let (width, height) = (960u32, 640u32);
+    let mut pixels = vec![0u8; (width * height * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut pixels, (width, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 22))
+            .margin(16)
+            .x_label_area_size(48)
+            .y_label_area_size(80)
+            .build_cartesian_2d(0.0..max_x, (floor * 0.999..max_y * 1.001).log_scale())
+            .map_err(|e| anyhow!("{e}"))?;
+        chart
+            .configure_mesh()
+            .x_desc(x_label)
+            .y_desc(format!("{y_label} (log; 0 drawn at the floor)"))
+            .y_labels(12)
+            .y_label_formatter(&|y| format!("{y:.0e}"))
+            .label_style(("sans-serif", 14))
+            .draw()
+            .map_err(|e| anyhow!("{e}"))?;
         for (i, name) in series.iter().enumerate() {
             let colour = PALETTE[i % PALETTE.len()];
-            let data: Vec<(f64, f64)> = finite.iter().filter(|p| p.series == *name).map(|p| (p.x, p.y)).collect();
+            let mut data: Vec<(f64, f64, f64)> =
+                finite.iter().filter(|p| p.series == *name).map(|p| (p.step, p.x, shown(p.y))).collect();
+            data.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let line: Vec<(f64, f64)> = data.iter().map(|&(_, x, y)| (x, y)).collect();
+            // Segment by segment: plotters' joins of a thick path that turns back overshoot.
             chart
-                .draw_series(data.iter().map(|&(x, y)| Circle::new((x, y), 5, colour.filled())))
-                .map_err(|e| anyhow!("{e}"))?
-                .label(*name)
-                .legend(move |(x, y)| Circle::new((x, y), 5, colour.filled()));
+                .draw_series(line.windows(2).map(|pair| PathElement::new(pair.to_vec(), colour.stroke_width(2))))
+                .map_err(|e| anyhow!("{e}"))?;
+            draw_markers(&mut chart, i, name, &line, colour)?;
         }
-        Ok(())
-    })
+        let front = pareto_front(&finite.iter().map(|p| (p.x, shown(p.y))).collect::<Vec<_>>());
+        chart
+            .draw_series(DashedLineSeries::new(front, 6, 4, BLACK.stroke_width(1)))
+            .map_err(|e| anyhow!("{e}"))?
+            .label("Pareto front")
+            .legend(|(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], BLACK.stroke_width(1)));
+        // The legend goes in the corner with the fewest points.
+        let (mid_x, mid_y) = (max_x / 2.0, (floor * max_y).sqrt());
+        let in_corner = |right: bool, upper: bool| {
+            finite.iter().filter(|p| (p.x > mid_x) == right && (shown(p.y) > mid_y) == upper).count()
+        };
+        let corner = [
+            (in_corner(true, true), SeriesLabelPosition::UpperRight),
+            (in_corner(false, true), SeriesLabelPosition::UpperLeft),
+            (in_corner(true, false), SeriesLabelPosition::LowerRight),
+            (in_corner(false, false), SeriesLabelPosition::LowerLeft),
+        ]
+        .into_iter()
+        .min_by_key(|(count, _)| *count)
+        .map_or(SeriesLabelPosition::UpperRight, |(_, position)| position);
+        chart
+            .configure_series_labels()
+            .position(corner)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 13))
+            .draw()
+            .map_err(|e| anyhow!("{e}"))?;
+        root.present().map_err(|e| anyhow!("{e}"))?;
+    }
+    let image = image::RgbImage::from_raw(width, height, pixels).context("plot buffer size")?;
+    image.save(path).with_context(|| format!("writing the plot {}", path.display()))
 }
 
 /// One line of a history plot: its points (x, y) and the x of points to mark (a driver change).
@@ -144,4 +276,29 @@ pub fn lines(path: &Path, title: &str, x_label: &str, y_label: &str, lines: &[Pl
         }
         Ok(())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_pareto_front_keeps_only_points_nothing_beats_in_both() {
+        let points = [(3.0, 0.1), (1.0, 0.5), (2.0, 0.2), (2.5, 0.3), (4.0, 0.1), (5.0, 0.01)];
+        assert_eq!(pareto_front(&points), [(1.0, 0.5), (2.0, 0.2), (3.0, 0.1), (5.0, 0.01)]);
+    }
+
+    #[test]
+    fn a_tradeoff_plot_draws_lines_markers_and_exact_points() {
+        let path = std::env::temp_dir().join(format!("fragkit-tradeoff-{}.png", std::process::id()));
+        let point = |series: &str, step: f64, x: f64, y: f64| PlotPoint { series: series.into(), step, x, y };
+        let points = [
+            point("a", 2.0, 9.3, 0.0358),
+            point("a", 4.0, 14.5, 0.03586),
+            point("a", 6.0, 11.8, 0.03586),
+            point("exact", 0.0, 14.0, 0.0),
+        ];
+        tradeoff(&path, "test", "time (ms)", "error", &points).unwrap();
+        assert!(std::fs::read(&path).unwrap().starts_with(b"\x89PNG"));
+    }
 }

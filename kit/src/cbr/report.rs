@@ -15,7 +15,7 @@ use super::renderer::{Checkerboard, CheckerboardConfig, FullResolutionScene, Hal
 use super::sampling::CheckerboardPath;
 use super::scene::{CheckerboardScene, Motion, textured_corridor};
 use crate::gpu::{AdapterDescription, Gpu};
-use crate::plot::{PlotPoint, scatter};
+use crate::plot::{PlotPoint, tradeoff};
 use crate::query::median;
 
 #[derive(Clone, Debug)]
@@ -100,7 +100,18 @@ fn sequence_rows(gpu: &Gpu, sweep: &CbrSweep, scene: &CheckerboardScene, sequenc
         let (error, _) = measure_against(screen, image, &reference, 0)?;
         Ok((error.psnr_db, error.flip))
     };
-    let mut rows = vec![row(sequence, "fullres", fullres_ms, (f64::INFINITY, 0.0))];
+    let mut rows = vec![CbrReportRow {
+        shading: Shading::Forward.name().into(),
+        ..row(sequence, "fullres", fullres_ms, (f64::INFINITY, 0.0))
+    }];
+    // Deferred checkerboarding's own baseline: full resolution deferred (the same G-buffer and
+    // lighting at every pixel), so that its speed-up is not credited with deferred shading's.
+    let mut deferred = FullResolutionScene::shaded(gpu, scene, screen, Shading::Deferred)?;
+    let deferred_ms = timed_frames(frames, |f| deferred.render(gpu, f))?;
+    rows.push(CbrReportRow {
+        shading: Shading::Deferred.name().into(),
+        ..row(sequence, "fullres", deferred_ms, error_of(&read_hdr(gpu, deferred.output())?)?)
+    });
 
     let mut upscale = HalfResolutionUpscale::new(gpu, scene, screen)?;
     let upscale_ms = timed_frames(frames, |f| upscale.render(gpu, f))?;
@@ -153,14 +164,19 @@ pub fn write_report(dir: &Path, adapter: &AdapterDescription, sweep: &CbrSweep, 
     let mut markdown = format!(
         "# CBR: error against GPU time\n\nAdapter: {} ({}). {}x{}, {} lights, {} frames a sequence; the last \
          frame is compared with full resolution (display-referred PSNR, mean FLIP); GPU time is the median \
-         frame after the first.\n\n\
+         frame after the first; each speed-up is over full resolution shaded the same way (forward or \
+         deferred).\n\n\
          | sequence | method | path | shading | detection | GPU ms | speed-up | PSNR dB | FLIP |\n\
          |---|---|---|---|---|---:|---:|---:|---:|\n",
         adapter.name, adapter.backend, sweep.size.0, sweep.size.1, sweep.lights, sweep.frames
     );
     for row in rows {
-        let fullres =
-            rows.iter().find(|r| r.method == "fullres" && r.sequence == row.sequence).map_or(f64::NAN, |r| r.gpu_ms);
+        // The baseline shaded the same way (forward for the upscale, which renders forward).
+        let shading = if row.method == "half_upscale" { Shading::Forward.name() } else { row.shading.as_str() };
+        let fullres = rows
+            .iter()
+            .find(|r| r.method == "fullres" && r.sequence == row.sequence && r.shading == shading)
+            .map_or(f64::NAN, |r| r.gpu_ms);
         markdown.push_str(&format!(
             "| {} | {} | {} | {} | {} | {:.3} | {:.2}x | {:.2} | {:.4} |\n",
             row.sequence,
@@ -176,22 +192,26 @@ pub fn write_report(dir: &Path, adapter: &AdapterDescription, sweep: &CbrSweep, 
     }
     std::fs::write(dir.join("cbr_report.md"), markdown).context("writing cbr_report.md")?;
 
+    // One line per method through the sequences, in the sweep's order.
+    let step = |sequence: &str| sweep.motions.iter().position(|m| m.name() == sequence).unwrap_or(0) as f64;
     let points: Vec<PlotPoint> = rows
         .iter()
         .map(|r| PlotPoint {
-            series: if r.method == "cbr" {
-                format!("cbr {} {} {}", r.path, r.shading, r.detection)
-            } else {
-                r.method.clone()
+            series: match r.method.as_str() {
+                "cbr" => format!("cbr {} {} {}", r.path, r.shading, r.detection),
+                "fullres" => format!("full resolution {}", r.shading),
+                other => other.replace('_', " "),
             },
+            step: step(&r.sequence),
             x: r.gpu_ms,
             y: r.flip,
         })
         .collect();
-    scatter(
+    let order: Vec<String> = sweep.motions.iter().map(|m| m.name()).collect();
+    tradeoff(
         &dir.join("cbr_report.png"),
         &format!("CBR error vs GPU time — {}", adapter.name),
-        "GPU time per frame (ms)",
+        &format!("GPU time per frame (ms); lines join the sequences {}", order.join(" → ")),
         "mean FLIP vs full resolution",
         &points,
     )

@@ -15,7 +15,7 @@ use crate::deferred::DeferredInputs;
 use crate::deferred::lighting::FullResolution;
 use crate::gpu::Gpu;
 use crate::image_compare::{compare, flip_mean};
-use crate::plot::{PlotPoint, scatter};
+use crate::plot::{PlotPoint, tradeoff};
 use crate::query::{GpuTimer, median};
 use crate::readback::read_texture;
 use crate::scene::corridor::corridor;
@@ -196,18 +196,26 @@ pub fn write_report(dir: &Path, adapter: &crate::gpu::AdapterDescription, rows: 
     }
     std::fs::write(dir.join("cps_report.md"), markdown).context("writing cps_report.md")?;
 
+    // One line per method through its top levels, at the sweep's largest light count (the
+    // table has every count).
+    let lights = rows.iter().map(|r| r.lights).max().unwrap_or(0);
     let points: Vec<PlotPoint> = rows
         .iter()
+        .filter(|r| r.lights == lights)
         .map(|r| PlotPoint {
-            series: if r.method == "cps" { format!("cps {}", r.composite) } else { r.method.clone() },
+            series: match r.method.as_str() {
+                "fullres" => "full resolution".to_owned(),
+                method => format!("{method} {} ({})", r.composite, r.policy),
+            },
+            step: f64::from(r.max_level),
             x: r.gpu_ms,
             y: r.flip,
         })
         .collect();
-    scatter(
+    tradeoff(
         &dir.join("cps_report.png"),
-        &format!("CPS error vs GPU time — {}", adapter.name),
-        "GPU time (ms)",
+        &format!("CPS error vs GPU time — {}, {lights} lights", adapter.name),
+        "GPU time of the lighting work (ms); lines join the top levels",
         "mean FLIP vs full resolution",
         &points,
     )

@@ -13,7 +13,7 @@ use super::scene::QuadScene;
 use crate::caps::{common_sample_counts, matches_standard};
 use crate::gpu::{AdapterDescription, Gpu};
 use crate::image_compare::flip_mean;
-use crate::plot::{PlotPoint, scatter};
+use crate::plot::{PlotPoint, tradeoff};
 use crate::probe::sample_positions::measure;
 use crate::tonemap::ldr_to_display;
 
@@ -134,19 +134,21 @@ pub fn write_report(dir: &Path, adapter: &AdapterDescription, rows: &[OitReportR
         ));
     }
     std::fs::write(dir.join("oit_report.md"), markdown).context("writing oit_report.md")?;
+    // One line per method (and sample count, filter) through its accumulated frames.
     let points: Vec<PlotPoint> = rows
         .iter()
         .map(|r| PlotPoint {
-            series: format!("{}{}", r.method, if r.filtered { " +filter" } else { "" }),
+            series: format!("{} {}x{}", r.method, r.samples, if r.filtered { " +filter" } else { "" }),
+            step: f64::from(r.frames),
             x: r.gpu_ms,
             y: r.rmse,
         })
         .collect();
-    scatter(
+    tradeoff(
         &dir.join("oit_report.png"),
         &format!("OIT error vs GPU time — {}", adapter.name),
-        "GPU time (ms)",
-        "RMSE vs exact",
+        "GPU time (ms); lines join the frames accumulated",
+        "RMSE vs exact composite",
         &points,
     )
 }
