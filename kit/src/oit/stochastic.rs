@@ -347,9 +347,11 @@ pub fn exact_alpha_table(transfer: &crate::probe::alpha_to_coverage::AlphaToCove
         .collect()
 }
 
-/// Whether this adapter can build the `@builtin(sample_mask)` output pipeline (wgpu's GL backend
-/// cannot translate it): a capability shown by creating the pipeline, not read from a flag.
-pub fn sample_mask_output_supported(gpu: &Gpu, samples: u32) -> bool {
+/// Builds the `@builtin(sample_mask)` output pipeline: Ok where this adapter builds it, else the
+/// error it gave (wgpu's GL backend mistranslates the builtin: naga writes a `uint` into GLSL's
+/// `int gl_SampleMask[]`, wgpu#6085, #4335). A capability shown by creating the pipeline, not
+/// read from a flag.
+pub fn sample_mask_output(gpu: &Gpu, samples: u32) -> Result<(), String> {
     gpu.scoped("sample_mask output pipeline", || {
         QuadPipeline {
             label: "sample mask probe",
@@ -364,7 +366,11 @@ pub fn sample_mask_output_supported(gpu: &Gpu, samples: u32) -> bool {
         .create(gpu);
         Ok(())
     })
-    .is_ok()
+    // wgpu's error spans lines (scope, call, cause); the cause is the last.
+    .map_err(|e| {
+        let text = format!("{e:#}");
+        text.lines().map(str::trim).rfind(|l| !l.is_empty()).unwrap_or_default().to_owned()
+    })
 }
 
 /// The stochastic variants this adapter can run at `samples` per pixel: always the paper's; the
@@ -377,7 +383,7 @@ pub fn available_variants(gpu: &Gpu, samples: u32) -> Result<Vec<Stochastic>> {
     {
         variants.push(Stochastic::Corrected { exact_alpha });
     }
-    if sample_mask_output_supported(gpu, samples) {
+    if sample_mask_output(gpu, samples).is_ok() {
         variants.push(Stochastic::SampleMask);
     }
     Ok(variants)
