@@ -364,3 +364,40 @@ fn a_parameter_dependent_known_issue_may_pass_away_from_the_defaults_only() {
     assert_eq!(code, 1, "at the defaults a pass still means the entry is stale: {text}");
     std::fs::remove_file(&path).ok();
 }
+
+/// stdout and stderr apart.
+fn fragkit_streams(args: &[&str]) -> (i32, String, String) {
+    let output = Command::new(env!("CARGO_BIN_EXE_fragkit")).args(args).output().expect("running fragkit");
+    let (out, err) =
+        (String::from_utf8_lossy(&output.stdout).into_owned(), String::from_utf8_lossy(&output.stderr).into_owned());
+    assert!(!err.contains("panicked"), "fragkit {args:?} panicked:\n{err}");
+    (output.status.code().unwrap_or(-1), out, err)
+}
+
+#[test]
+fn driver_and_wgpu_logs_go_to_the_report_not_the_terminal() {
+    let dir = std::env::temp_dir().join(format!("fragkit-quiet-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let json = dir.join("report.json");
+    let (code, out, err) = fragkit_streams(&["check", "kit.hash.values", "--json", json.to_str().unwrap()]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(!err.contains("ERROR"), "stderr: {err}");
+    let (code, out, err) = fragkit_streams(&["adapters"]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(!err.contains("ERROR") && out.starts_with("backend"), "{out}{err}");
+
+    // GL's sample-mask pipeline makes naga's GLSL writer and Mesa's compiler log errors: they
+    // belong to the case, in its diagnostics, and show with -v.
+    if out.lines().any(|l| l.starts_with("gl ")) {
+        let (code, out, err) =
+            fragkit_streams(&["--backend", "gl", "check", "oit.quads.converges", "--json", json.to_str().unwrap()]);
+        assert_eq!(code, 0, "{out}{err}");
+        assert!(!err.contains("ERROR"), "stderr: {err}");
+        let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let logged = report["cases"][0]["diagnostics"].to_string();
+        assert!(logged.contains("int[1]"), "{logged}");
+        let (_, _, err) = fragkit_streams(&["--backend", "gl", "check", "oit.quads.converges", "-v"]);
+        assert!(err.contains("int[1]"), "-v prints the records: {err}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

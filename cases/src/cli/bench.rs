@@ -56,8 +56,11 @@ pub fn bench(selector: &AdapterSelector, args: BenchArgs) -> Result<()> {
         std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?;
     }
     if let Some(database) = database.as_mut() {
-        let report =
-            Report { adapter: gpu.description.clone(), cases: results.iter().flat_map(BenchResult::records).collect() };
+        let report = Report {
+            adapter: gpu.description.clone(),
+            cases: results.iter().flat_map(BenchResult::records).collect(),
+            diagnostics: fragkit::harness::diagnostics::take(),
+        };
         let id = database.record(&report, &RunInfo::now(args.tag.clone()))?;
         println!("recorded as run {id} in {}", database.location());
     }

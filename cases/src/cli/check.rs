@@ -62,9 +62,6 @@ pub struct CheckArgs {
     /// Count flaky cases as failures (exit 1).
     #[arg(long)]
     flaky_fails: bool,
-    /// Print every reason whole below the table (the table cuts them to fit 120 columns).
-    #[arg(long, short)]
-    verbose: bool,
     /// Record the run in this results database: an SQLite file (created where missing) or a
     /// postgres:// URL.
     #[arg(long)]
@@ -82,7 +79,7 @@ fn check_writable(path: &Path) -> Result<()> {
     Ok(())
 }
 
-pub fn check(selector: &AdapterSelector, args: CheckArgs) -> Result<ExitCode> {
+pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Result<ExitCode> {
     // Check every input before touching the GPU.
     let cases = select(fragkit_cases::ALL, &args.patterns)?;
     let overrides = parse_overrides(&args.sets)?;
@@ -120,7 +117,7 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs) -> Result<ExitCode> {
         retries: args.retry,
         repeats: args.repeat,
     };
-    let mut table = TableSink::new(args.verbose);
+    let mut table = TableSink::new(verbose);
     let mut json = args.json.as_deref().map(|path| JsonSink { path });
     let mut junit = args.junit.as_deref().map(|path| JunitSink { path, flaky_fails: args.flaky_fails });
     let mut database =

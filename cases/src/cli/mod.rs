@@ -27,6 +27,10 @@ pub struct Cli {
     /// Substring of the adapter name.
     #[arg(long, global = true, env = "WGPU_ADAPTER_NAME")]
     pub adapter: Option<String>,
+    /// Print what wgpu and the driver log (kept in the JSON report otherwise) and every reason
+    /// whole.
+    #[arg(long, short, global = true)]
+    pub verbose: bool,
     #[command(subcommand)]
     pub command: Command,
 }

@@ -49,17 +49,41 @@ pub fn print_table(report: &Report) {
     }
 }
 
-/// Every reason the table cut, whole (`check --verbose`).
+/// Every reason the table cut, whole, with what wgpu and the driver logged during the case
+/// (`-v`).
 pub fn print_reasons(report: &Report) {
-    for c in report.cases.iter().filter(|c| !c.reason.is_empty()) {
+    for c in report.cases.iter().filter(|c| !c.reason.is_empty() || !c.diagnostics.is_empty()) {
         println!("\n{} ({}):\n    {}", c.name, c.outcome.label(), c.reason.lines().collect::<Vec<_>>().join("\n    "));
+        print_diagnostics(&c.diagnostics);
+    }
+}
+
+fn print_diagnostics(diagnostics: &[String]) {
+    for line in diagnostics {
+        println!("    logged: {}", line.lines().collect::<Vec<_>>().join("\n            "));
+    }
+}
+
+/// Below the table: what was logged during the failing cases (it may explain them), and how many
+/// records the report keeps otherwise.
+pub fn print_diagnostics_summary(report: &Report) {
+    let failing: Vec<_> =
+        report.cases.iter().filter(|c| c.outcome.is_failure(true) && !c.diagnostics.is_empty()).collect();
+    for c in &failing {
+        println!("\n{} ({}) logged:", c.name, c.outcome.label());
+        print_diagnostics(&c.diagnostics);
+    }
+    let kept = report.diagnostics.len() + report.cases.iter().map(|c| c.diagnostics.len()).sum::<usize>();
+    if kept > 0 {
+        let plural = if kept == 1 { "" } else { "s" };
+        println!("{kept} log record{plural} of wgpu and the driver kept in the report's diagnostics; -v prints them");
     }
 }
 
 /// Prints the table when the run finishes, with a progress bar while it runs.
 pub struct TableSink {
     progress: indicatif::ProgressBar,
-    /// Also print every reason whole below the table.
+    /// Also print every reason whole, and the log records, below the table.
     verbose: bool,
 }
 
@@ -88,6 +112,8 @@ impl Sink for TableSink {
         print_table(report);
         if self.verbose {
             print_reasons(report);
+        } else {
+            print_diagnostics_summary(report);
         }
         Ok(())
     }

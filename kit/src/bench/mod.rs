@@ -210,6 +210,7 @@ impl BenchResult {
                     wall_ms: per_variant,
                     evidence: Vec::new(),
                     attempts: 1,
+                    diagnostics: Vec::new(),
                 }
             })
             .collect()

@@ -358,11 +358,12 @@ mod tests {
             wall_ms: 1.0,
             evidence: Vec::new(),
             attempts: 1,
+            diagnostics: Vec::new(),
         }
     }
 
     fn report(cases: Vec<CaseRecord>) -> Report {
-        Report { adapter: AdapterDescription::default(), cases }
+        Report { adapter: AdapterDescription::default(), cases, diagnostics: Vec::new() }
     }
 
     #[test]

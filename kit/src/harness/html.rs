@@ -226,6 +226,13 @@ fn case_page(columns: &[Column], cells: &[Option<&CaseRecord>], copier: &mut Fil
         if !record.reason.is_empty() {
             let _ = writeln!(html, "<h3>Reason</h3><pre>{}</pre>", escape(&record.reason));
         }
+        if !record.diagnostics.is_empty() {
+            let _ = writeln!(
+                html,
+                "<h3>Logged by wgpu and the driver</h3><pre>{}</pre>",
+                escape(&record.diagnostics.join("\n"))
+            );
+        }
         let metrics = record.numeric_metrics();
         if !metrics.is_empty() {
             html.push_str("<h3>Metrics</h3><table><tr><th>metric</th><th>value</th></tr>");

@@ -150,6 +150,7 @@ mod tests {
             wall_ms: 1500.0,
             evidence: Vec::new(),
             attempts: 1,
+            diagnostics: Vec::new(),
         }
     }
 
@@ -163,6 +164,7 @@ mod tests {
                 record("oit.d", ReportedOutcome::NotSupported, "no 8x"),
                 record("cps.e", ReportedOutcome::Flaky, "failed, then pass"),
             ],
+            diagnostics: Vec::new(),
         };
         let xml = to_junit(&report, false);
         assert!(xml.contains("tests=\"4\" failures=\"1\" errors=\"0\" skipped=\"1\""));
@@ -203,7 +205,7 @@ mod tests {
             params: [("n".to_owned(), super::super::params::ParamValue::Count(2))].into(),
             ..record("kit.case0", ReportedOutcome::Pass, "")
         });
-        let report = Report { adapter: AdapterDescription::default(), cases };
+        let report = Report { adapter: AdapterDescription::default(), cases, diagnostics: Vec::new() };
         let schema = concat!(env!("CARGO_MANIFEST_DIR"), "/src/harness/junit.xsd");
         for flaky_fails in [false, true] {
             let path = std::env::temp_dir().join(format!("fragkit-junit-{}-{flaky_fails}.xml", std::process::id()));

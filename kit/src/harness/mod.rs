@@ -5,6 +5,7 @@
 pub mod case;
 pub mod compare;
 pub mod database;
+pub mod diagnostics;
 pub mod expectations;
 pub mod html;
 pub mod junit;

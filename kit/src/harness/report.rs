@@ -69,6 +69,9 @@ pub struct CaseRecord {
     /// Runs of the case: 1, or more where `--retry` ran a failure again.
     #[serde(default = "one")]
     pub attempts: u32,
+    /// Warnings and errors wgpu, naga or the driver logged while the case ran.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub diagnostics: Vec<String>,
 }
 
 fn one() -> u32 {
@@ -116,6 +119,9 @@ impl CaseRecord {
 pub struct Report {
     pub adapter: AdapterDescription,
     pub cases: Vec<CaseRecord>,
+    /// Warnings and errors logged before the first case (opening the device, e.g. EGL's).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub diagnostics: Vec<String>,
 }
 
 impl Report {
@@ -164,7 +170,9 @@ impl Report {
                 cases.push(case.clone());
             }
         }
-        Ok(Self { adapter, cases })
+        // Each shard opened its own device: their opening records, one after another.
+        let diagnostics = reports.iter().flat_map(|(_, r)| r.diagnostics.iter().cloned()).collect();
+        Ok(Self { adapter, cases, diagnostics })
     }
 
     /// Writes the report through a temporary file and a rename, so that an interrupted run never

@@ -9,6 +9,7 @@ use std::path::Path;
 use anyhow::{Result, bail};
 
 use super::case::Case;
+use super::diagnostics;
 use super::expectations::Expectations;
 use super::report::{CaseRecord, Report, ReportedOutcome};
 use super::runner::run_case;
@@ -135,7 +136,8 @@ pub fn run(mut gpu: Gpu, runs: &[CaseRun], options: &RunOptions, sinks: &mut [&m
     for sink in sinks.iter_mut() {
         sink.start(&gpu.description, runs.len())?;
     }
-    let mut report = Report { adapter: gpu.description.clone(), cases: Vec::new() };
+    // What opening the device logged (EGL probing a missing DRI driver, say) belongs to the run.
+    let mut report = Report { adapter: gpu.description.clone(), cases: Vec::new(), diagnostics: diagnostics::take() };
     for run in runs {
         let mut record = run_case(&gpu, run.case, &run.overrides, options.expectations, options.evidence_dir);
         while record.outcome == ReportedOutcome::Fail && record.attempts <= options.retries && gpu.lost().is_none() {

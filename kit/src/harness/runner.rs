@@ -10,6 +10,7 @@ use anyhow::{Result, bail};
 use glob::Pattern;
 
 use super::case::{Case, Ctx, Outcome};
+use super::diagnostics;
 use super::expectations::{Expectations, KnownIssue};
 use super::params::{ParamKind, Params};
 use super::report::{CaseRecord, ReportedOutcome};
@@ -186,6 +187,7 @@ pub fn run_case(
         wall_ms: started.elapsed().as_secs_f64() * 1e3,
         evidence: ctx.evidence,
         attempts: 1,
+        diagnostics: diagnostics::take(),
     }
 }
 

@@ -335,7 +335,7 @@ impl Database {
                 &[id.into()],
             )?;
             let cases = rows.iter().map(|row| case_record(row, id, &location)).collect::<Result<_>>()?;
-            Ok(Report { adapter, cases })
+            Ok(Report { adapter, cases, diagnostics: Vec::new() })
         })
     }
 
@@ -430,6 +430,7 @@ fn case_record(row: &Row, run: i64, location: &str) -> Result<CaseRecord> {
         evidence: serde_json::from_str(&row.text(7)?).with_context(|| corrupt("evidence"))?,
         metrics: serde_json::from_str(&row.text(8)?).with_context(|| corrupt("metrics"))?,
         gpu_ms_repeats: serde_json::from_str(&row.text(9)?).with_context(|| corrupt("GPU time repeats"))?,
+        diagnostics: Vec::new(),
         name,
     })
 }
@@ -525,7 +526,9 @@ mod tests {
                 wall_ms: 3.0,
                 evidence: vec![std::path::PathBuf::from("e.png")],
                 attempts: 1,
+                diagnostics: Vec::new(),
             }],
+            diagnostics: Vec::new(),
         }
     }
 

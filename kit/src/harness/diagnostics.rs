@@ -1,0 +1,65 @@
+//! Log records of wgpu, naga and the drivers (EGL's "DRI2: failed to load driver" on a machine
+//! without /dev/dri, a shader translation error behind a probe's expected failure) captured
+//! instead of printed: the run loop files each case's records in its report entry, the records
+//! before the first case in the report's own, and the terminal shows them with `-v` or under a
+//! failing case. `RUST_LOG` set in the environment prints instead (env_logger), for developers.
+
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+static CAPTURED: Mutex<Vec<String>> = Mutex::new(Vec::new());
+/// Also print each record to stderr as it comes (`-v`).
+static ECHO: AtomicBool = AtomicBool::new(false);
+static LOGGER: CaptureLogger = CaptureLogger;
+
+struct CaptureLogger;
+
+impl log::Log for CaptureLogger {
+    fn enabled(&self, metadata: &log::Metadata) -> bool {
+        metadata.level() <= log::Level::Warn
+    }
+
+    fn log(&self, record: &log::Record) {
+        if !self.enabled(record.metadata()) {
+            return;
+        }
+        let line = format!("{} {}: {}", record.level(), record.target(), record.args()).trim_end().to_owned();
+        if ECHO.load(Ordering::Relaxed) {
+            eprintln!("[{line}]");
+        }
+        CAPTURED.lock().unwrap_or_else(|e| e.into_inner()).push(line);
+    }
+
+    fn flush(&self) {}
+}
+
+/// Installs the capturing logger (warnings and errors; `echo` also prints them). Fails only if
+/// another logger is installed.
+pub fn capture(echo: bool) -> anyhow::Result<()> {
+    ECHO.store(echo, Ordering::Relaxed);
+    log::set_logger(&LOGGER).map_err(|e| anyhow::anyhow!("installing the log capture: {e}"))?;
+    log::set_max_level(log::LevelFilter::Warn);
+    Ok(())
+}
+
+/// The records captured since the last call, oldest first.
+pub fn take() -> Vec<String> {
+    std::mem::take(&mut *CAPTURED.lock().unwrap_or_else(|e| e.into_inner()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn records_are_kept_until_taken() {
+        // The test binary has no other logger; a second install fails cleanly.
+        let _ = capture(false);
+        log::warn!(target: "wgpu_hal::gles::egl", "DRI2: failed to load driver");
+        log::info!("not kept: below warnings");
+        let taken = take();
+        assert!(taken.iter().any(|l| l == "WARN wgpu_hal::gles::egl: DRI2: failed to load driver"), "{taken:?}");
+        assert!(!taken.iter().any(|l| l.contains("not kept")));
+        assert!(take().iter().all(|l| !l.contains("DRI2")));
+    }
+}
