@@ -10,7 +10,31 @@ use clap::Parser;
 use cli::{Cli, Command};
 use fragkit::gpu::AdapterSelector;
 
+/// Without `XDG_RUNTIME_DIR` the window-system client libraries Mesa's drivers load print
+/// "error: XDG_RUNTIME_DIR is invalid or not set" (harmless: the kit renders offscreen). Give
+/// them a private one, as a login session would.
+#[cfg(unix)]
+fn ensure_runtime_dir() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_some() {
+        return;
+    }
+    let user = std::env::var("USER").unwrap_or_else(|_| "user".into());
+    let dir = std::env::temp_dir().join(format!("fragkit-runtime-{user}"));
+    let private = {
+        use std::os::unix::fs::DirBuilderExt;
+        std::fs::DirBuilder::new().recursive(true).mode(0o700).create(&dir).is_ok()
+    };
+    if private {
+        // SAFETY: the first thing main does, before any thread exists.
+        unsafe { std::env::set_var("XDG_RUNTIME_DIR", &dir) };
+    }
+}
+
+#[cfg(not(unix))]
+fn ensure_runtime_dir() {}
+
 fn main() -> ExitCode {
+    ensure_runtime_dir();
     let cli = Cli::parse();
     // wgpu's and the drivers' records are captured (into the reports) and printed only with -v;
     // RUST_LOG prints them all as they come, for developers.
