@@ -1,6 +1,6 @@
 //! What every bench file does with a `fragkit::bench::Bench` (the code `fragkit bench` runs too):
 //! criterion times each variant's GPU time, then side-by-side rounds give the speed-ups, printed
-//! and written to target/fragkit-bench/<technique>.json.
+//! and written to <technique>.json in FRAGKIT_BENCH_DIR (default target/fragkit-bench).
 
 use std::time::Duration;
 
@@ -33,7 +33,9 @@ pub fn criterion_then_rounds(c: &mut Criterion, technique: &str, rounds: usize) 
         println!("{line}");
     }
     let summary = serde_json::to_string_pretty(&result).unwrap_or_else(|e| panic!("the summary: {e}"));
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/fragkit-bench");
+    let dir = std::env::var_os("FRAGKIT_BENCH_DIR")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/fragkit-bench"));
     std::fs::create_dir_all(&dir)
         .and_then(|_| std::fs::write(dir.join(format!("{technique}.json")), summary))
         .unwrap_or_else(|e| panic!("writing the summary: {e}"));
