@@ -8,7 +8,7 @@ use fragkit::harness::report::CaseRecord;
 
 /// Metrics that are timings: they vary run to run and stay out of snapshots.
 const TIMING_METRICS: &[&str] =
-    &["equal_ms", "always_ms", "time_ratio", "level0_ms", "foveated_levels", "probe_time_ratio"];
+    &["equal_ms", "always_ms", "time_ratio", "level0_ms", "foveated_lighting", "probe_time_ratio"];
 
 fn check(name: &str) {
     let (record, slug) = support::run(name);

@@ -68,10 +68,18 @@ impl Texels {
 
     /// The top-left `width` × `height` texels (mip chains are padded beyond the data).
     pub fn crop(&self, width: u32, height: u32) -> Texels {
-        let row = (width * self.bytes_per_texel) as usize;
-        let stride = (self.width * self.bytes_per_texel) as usize;
-        let bytes =
-            (0..height as usize).flat_map(|y| self.bytes[y * stride..y * stride + row].iter().copied()).collect();
+        self.region(0, 0, width, height)
+    }
+
+    /// The `width`×`height` texels whose top left is (`x`, `y`).
+    pub fn region(&self, x: u32, y: u32, width: u32, height: u32) -> Texels {
+        let (texel, stride) = (self.bytes_per_texel as usize, (self.width * self.bytes_per_texel) as usize);
+        let bytes = (y as usize..(y + height) as usize)
+            .flat_map(|row| {
+                let start = row * stride + x as usize * texel;
+                self.bytes[start..start + width as usize * texel].iter().copied()
+            })
+            .collect();
         Texels { width, height, bytes_per_texel: self.bytes_per_texel, bytes }
     }
 

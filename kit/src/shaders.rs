@@ -55,6 +55,7 @@ shader_files! {
     CPS_FILL_PULL => "cps/fill_pull.wgsl",
     CPS_FILL_PUSH => "cps/fill_push.wgsl",
     CPS_COMPOSITE => "cps/composite.wgsl",
+    CPS_STENCIL_MARK => "cps/stencil_mark.wgsl",
     TEXARRAY_FETCH => "texarray/fetch.wgsl",
     CBR_SAMPLE_ID_RECORD => "cbr/sample_id_record.wgsl",
     CBR_LAYOUT_VALUES => "cbr/layout_values.wgsl",

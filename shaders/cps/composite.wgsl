@@ -1,18 +1,22 @@
 // Composite: every pixel takes its colour from the lit levels. Three modes: nearest (plain CPS:
 // the pixel's own coarse texel), the original method's 4-neighbour interpolation, and our
-// seam-free trilinear reconstruction over the pull-push filled pyramid. Every fetch at a
-// per-pixel level goes through load_at_level (common/fullscreen.wgsl), which the renderer sets
-// to loop over the levels where the kit's probe found the direct fetch wrong.
+// seam-free trilinear reconstruction over the pull-push filled pyramid. The lit levels are one
+// atlas, read at a per-pixel offset; the filled pyramid's fetches at a per-pixel mip level go
+// through load_at_level (common/fullscreen.wgsl), which the renderer sets to loop over the levels
+// where the kit's probe found the direct fetch wrong.
 
 struct Composite {
     max_level: u32,
     // Seam-free mode: the level whose blocks carry the smooth level field.
     transition_level: u32,
     screen: vec2u,
+    // Where each level's texels start in the lit atlas (xy).
+    origins: array<vec4u, 9>,
 }
 
 @group(0) @binding(0) var<uniform> composite: Composite;
 @group(0) @binding(1) var lod: texture_2d<u32>;
+// Every lit level side by side (cps/atlas.rs): a per-pixel level is a per-pixel offset.
 @group(0) @binding(2) var lit: texture_2d<f32>;
 
 
@@ -25,7 +29,7 @@ fn level_of(pixel: vec2i) -> u32 {
 fn coarse_colour(pixel: vec2i) -> vec4f {
     let clamped = vec2u(clamp(pixel, vec2i(0), vec2i(composite.screen) - 1));
     let level = level_of(pixel);
-    return load_at_level(lit, vec2i(clamped >> vec2u(level)), level);
+    return textureLoad(lit, vec2i(composite.origins[level].xy + (clamped >> vec2u(level))), 0);
 }
 
 // The pixel just outside the coarse fragment holding `pixel`, along `axis` (0 = x, 1 = y), on the

@@ -1,8 +1,7 @@
 // Stencil pyramid, level 0: the "LOD-present" bitmask of each pixel, 1 << lod (lod clamped to the
 // plan's top level), written to mip 0 of the mask pyramid. Where the plan skips absent levels on
 // the GPU, each pixel also sets its level's indirect instance count to 1, so a level no pixel
-// uses is drawn with zero instances, without a read-back. A second draw in the same pass marks
-// level 0's stencil (op Replace) at the pixels whose LOD is 0 and discards the others.
+// uses is drawn with zero instances, without a read-back.
 
 struct LodRange {
     max_level: u32,
@@ -35,9 +34,3 @@ fn fs_lod_present_and_count(@builtin(position) position: vec4f) -> @location(0) 
     return 1u << level;
 }
 
-@fragment
-fn fs_stencil_mark_level_0(@builtin(position) position: vec4f) {
-    if present_level(position) != 0u {
-        discard;
-    }
-}

@@ -3,6 +3,7 @@
 //! mipmapped target behind a stencil-Equal test, and a composite (nearest, the original
 //! 4-neighbour interpolation, or our seam-free reconstruction).
 
+pub mod atlas;
 pub mod config;
 pub mod lod_model;
 pub mod pictures;

@@ -34,8 +34,8 @@ impl CpsRenderer {
 
     /// Level `level` of the lit pyramid (data region only), RGBA f32 per texel.
     pub fn read_lit_level(&self, gpu: &Gpu, level: u32) -> Result<Vec<f32>> {
-        let (w, h) = self.plan.level_extents[level as usize];
-        Ok(read_texture(gpu, &self.lit.texture, wgpu::TextureAspect::All, level)?.crop(w, h).as_f16())
+        let (x, y, w, h) = self.atlas.rect(level as usize);
+        Ok(read_texture(gpu, &self.lit, wgpu::TextureAspect::All, 0)?.region(x, y, w, h).as_f16())
     }
 
     /// The composite, RGBA f32 per pixel.
@@ -52,9 +52,9 @@ impl CpsRenderer {
 
     /// Level `level`'s stencil (data region only): 1 where the level shades.
     pub fn read_stencil_level(&self, gpu: &Gpu, level: u32) -> Result<Vec<u8>> {
-        let (w, h) = self.plan.level_extents[level as usize];
+        let (x, y, w, h) = self.atlas.rect(level as usize);
         let stencil = self.stencil.as_ref().context("the naive configuration builds no stencil pyramid")?;
-        Ok(read_stencil(gpu, &stencil.texture, level)?.crop(w, h).bytes)
+        Ok(read_stencil(gpu, stencil, 0)?.region(x, y, w, h).bytes)
     }
 
     /// Named images of the last frame: `lod`, `stencil_<l>`, `lit_<l>` and `composite_<mode>`.

@@ -1,12 +1,14 @@
-//! The CPS frame: LOD buffer → LOD-present mask pyramid and stencil pyramid (one pass a level:
-//! the mask draw, then the stencil mark) → per-level lighting behind stencil Equal → (fill
-//! pyramid) → composite. Targets and pipelines are made once per renderer; `render` records one
-//! frame in one encoder with a timestamp pair around every pass and an occlusion query around
-//! every level's lighting draw.
+//! The CPS frame: LOD buffer → LOD-present mask pyramid (one pass a level) → the stencil of
+//! every level, side by side in one atlas (one pass, one draw a level) → every level lit in one
+//! pass behind stencil Equal (one draw a level, its viewport the level's rect) → (fill pyramid)
+//! → composite. Targets and pipelines are made once per renderer; `render` records one frame in
+//! one encoder with a timestamp pair around every pass and an occlusion query around every
+//! level's lighting draw.
 
 use anyhow::{Context, Result};
 use glam::Vec3;
 
+use super::atlas::LevelAtlas;
 use super::config::{CompositeMode, CpsConfig, LodPolicy};
 use super::plan::Plan;
 use super::targets::MipChain;
@@ -86,6 +88,12 @@ fn begin<'e>(
     pass
 }
 
+/// Limits drawing to one level's rect of an atlas: x, y, width, height.
+fn set_level_viewport(pass: &mut wgpu::RenderPass<'_>, (x, y, width, height): (u32, u32, u32, u32)) {
+    pass.set_viewport(x as f32, y as f32, width as f32, height as f32, 0.0, 1.0);
+    pass.set_scissor_rect(x, y, width, height);
+}
+
 pub struct CpsRenderer {
     pub config: CpsConfig,
     pub plan: Plan,
@@ -96,10 +104,14 @@ pub struct CpsRenderer {
     pub edges: Option<MipChain>,
     /// OR-reduced LOD-present bits: bit l of mip l texel q = some pixel of q's block has LOD l.
     pub mask: MipChain,
-    /// One stencil per level (absent for the naive comparison).
-    pub stencil: Option<MipChain>,
-    /// Lit levels; alpha 1 marks a shaded texel.
-    pub lit: MipChain,
+    /// Where each level lies in the stencil and lit atlases.
+    pub atlas: LevelAtlas,
+    /// Every level's stencil, side by side (absent for the naive comparison).
+    pub stencil: Option<wgpu::Texture>,
+    /// Every lit level, side by side; alpha 1 marks a shaded texel.
+    pub lit: wgpu::Texture,
+    /// The lit levels as a mip chain, copied from the atlas for the fill pyramid (seam-free only).
+    lit_levels: Option<MipChain>,
     /// Pull and push stages of the fill pyramid (seam-free composite only).
     pub fill: Option<(MipChain, MipChain)>,
     /// The composite (`Rgba16Float`, screen-sized).
@@ -112,8 +124,8 @@ pub struct CpsRenderer {
     edge_pipelines: Option<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
     present_pipeline: wgpu::RenderPipeline,
     mask_reduce_pipeline: wgpu::RenderPipeline,
-    /// Stencil marks of level 0 (from the LOD) and of coarser levels (from the finer mask).
-    mark_pipelines: Option<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
+    /// Stencil marks of every level, from the finished mask pyramid.
+    mark_pipeline: Option<wgpu::RenderPipeline>,
     light_pipeline: wgpu::RenderPipeline,
     fill_pipelines: Option<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
     composite_pipeline: wgpu::RenderPipeline,
@@ -123,6 +135,7 @@ impl CpsRenderer {
     pub fn new(gpu: &Gpu, screen: (u32, u32), config: CpsConfig) -> Result<Self> {
         let plan = Plan::new(gpu, screen, &config)?;
         let levels = plan.levels();
+        let atlas = LevelAtlas::new(&plan.level_extents);
         let lod = gpu.texture("lod", screen, LOD, 1, target_usage() | wgpu::TextureUsages::COPY_DST);
         let chain = |label, format| MipChain::new(gpu, label, plan.padded, levels, format, target_usage());
         // The fill pyramid's ends are copies of lit levels.
@@ -156,31 +169,22 @@ impl CpsRenderer {
             ),
             LodPolicy::Explicit(_) => (None, None),
         };
-        // The pyramid passes carry the level's stencil when there is one; the mask draws leave it.
-        let pyramid_stencil = |compare, op| plan.stencil_pyramid.then(|| stencil_state(STENCIL, compare, op));
-        let keep = || pyramid_stencil(wgpu::CompareFunction::Always, wgpu::StencilOperation::Keep);
         let present_entry = if plan.skip_absent_levels_on_gpu { "fs_lod_present_and_count" } else { "fs_lod_present" };
-        let mark_pipelines = plan.stencil_pyramid.then(|| {
-            let mark = |label, fragment, entry_point| {
-                FullscreenPipeline {
-                    label,
-                    fragment,
-                    entry_point,
-                    // The mark writes stencil only; the pass's mask is the mask draw's.
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format: MASK,
-                        blend: None,
-                        write_mask: wgpu::ColorWrites::empty(),
-                    })],
-                    depth_stencil: pyramid_stencil(wgpu::CompareFunction::Always, wgpu::StencilOperation::Replace),
-                    samples: 1,
-                }
-                .create(gpu)
-            };
-            (
-                mark("stencil mark level 0", shaders::CPS_LOD_PRESENT, "fs_stencil_mark_level_0"),
-                mark("stencil mark", shaders::CPS_MASK_REDUCE, "fs_stencil_mark"),
-            )
+        let mark_pipeline = plan.stencil_pyramid.then(|| {
+            FullscreenPipeline {
+                label: "stencil mark",
+                fragment: shaders::CPS_STENCIL_MARK,
+                entry_point: "fs_stencil_mark",
+                // Stencil only: the pass's one colour slot is empty.
+                targets: &[None],
+                depth_stencil: Some(stencil_state(
+                    STENCIL,
+                    wgpu::CompareFunction::Always,
+                    wgpu::StencilOperation::Replace,
+                )),
+                samples: 1,
+            }
+            .create(gpu)
         });
         let fill_pipelines = plan.fill_pyramid.then(|| {
             (
@@ -202,25 +206,39 @@ impl CpsRenderer {
             lod,
             edges: plan.edge_pyramid.then(|| chain("edge pyramid", MASK)),
             mask: chain("lod-present pyramid", MASK),
-            stencil: plan.stencil_pyramid.then(|| chain("stencil pyramid", STENCIL)),
-            lit: chain("lit levels", HDR),
+            stencil: plan.stencil_pyramid.then(|| gpu.texture("stencil atlas", atlas.size, STENCIL, 1, target_usage())),
+            lit: gpu.texture("lit atlas", atlas.size, HDR, 1, target_usage()),
+            lit_levels: plan.fill_pyramid.then(|| {
+                MipChain::new(
+                    gpu,
+                    "lit levels",
+                    plan.padded,
+                    levels,
+                    HDR,
+                    target_usage() | wgpu::TextureUsages::COPY_DST,
+                )
+            }),
+            atlas: atlas.clone(),
             fill: plan.fill_pyramid.then(|| (fill_chain("fill pull"), fill_chain("fill push"))),
             image: gpu.texture("cps composite", screen, HDR, 1, target_usage()),
             level_draws,
-            level_uniforms: (0..levels)
-                .map(|level| uniform_buffer(gpu, "level", bytemuck::cast_slice(&[level, 0, 0, 0])))
+            level_uniforms: (0..levels as usize)
+                .map(|level| {
+                    let (x, y) = atlas.origins[level];
+                    uniform_buffer(gpu, "level", bytemuck::cast_slice(&[level as u32, x, y, 0]))
+                })
                 .collect(),
             lod_pipeline,
             edge_pipelines,
-            present_pipeline: fullscreen("lod present", shaders::CPS_LOD_PRESENT, present_entry, Some(MASK), keep()),
+            present_pipeline: fullscreen("lod present", shaders::CPS_LOD_PRESENT, present_entry, Some(MASK), None),
             mask_reduce_pipeline: fullscreen(
                 "mask reduce",
                 shaders::CPS_MASK_REDUCE,
                 "fs_mask_reduce",
                 Some(MASK),
-                keep(),
+                None,
             ),
-            mark_pipelines,
+            mark_pipeline,
             light_pipeline: fullscreen(
                 "light level",
                 shaders::CPS_LIGHTING,
@@ -376,8 +394,8 @@ impl CpsRenderer {
         }
     }
 
-    /// One pass a level: the LOD-present mask (level 0 from the LOD, coarser ones ORing the
-    /// finer mask), then, in the same pass, the level's stencil mark.
+    /// The LOD-present mask pyramid, one pass a level (level 0 from the LOD, coarser ones ORing
+    /// the finer mask); then every level's stencil in its atlas, one pass, one draw a level.
     fn record_stencil_pyramid(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
         let range = uniform_buffer(gpu, "lod range", bytemuck::cast_slice(&[self.plan.top_level, 0, 0, 0]));
         let from_lod = [range.as_entire_binding(), wgpu::BindingResource::TextureView(&self.lod_view)];
@@ -385,40 +403,41 @@ impl CpsRenderer {
             bind_group(gpu, "level draws", &self.present_pipeline, 1, &[self.level_draws.as_entire_binding()])
         });
         for level in 0..self.plan.levels() as usize {
-            let finer = (level > 0).then(|| wgpu::BindingResource::TextureView(&self.mask.level_views[level - 1]));
             let targets = PassTargets {
                 colour: Some(&self.mask.level_views[level]),
-                stencil: self.stencil.as_ref().map(|stencil| (&stencil.level_views[level], wgpu::LoadOp::Clear(0))),
+                stencil: None,
                 viewport: self.plan.level_extents[level],
             };
             let mut pass = begin(encoder, &format!("pyramid {level}"), targets, timer, None);
-            match &finer {
-                None => {
-                    pass.set_pipeline(&self.present_pipeline);
-                    pass.set_bind_group(0, &bind_group(gpu, "lod present", &self.present_pipeline, 0, &from_lod), &[]);
-                    if let Some(counts) = &counts {
-                        pass.set_bind_group(1, counts, &[]);
-                    }
+            if level == 0 {
+                pass.set_pipeline(&self.present_pipeline);
+                pass.set_bind_group(0, &bind_group(gpu, "lod present", &self.present_pipeline, 0, &from_lod), &[]);
+                if let Some(counts) = &counts {
+                    pass.set_bind_group(1, counts, &[]);
                 }
-                Some(finer) => {
-                    let group =
-                        bind_group(gpu, "mask reduce", &self.mask_reduce_pipeline, 0, std::slice::from_ref(finer));
-                    pass.set_pipeline(&self.mask_reduce_pipeline);
-                    pass.set_bind_group(0, &group, &[]);
-                }
+            } else {
+                let finer = wgpu::BindingResource::TextureView(&self.mask.level_views[level - 1]);
+                let group = bind_group(gpu, "mask reduce", &self.mask_reduce_pipeline, 0, &[finer]);
+                pass.set_pipeline(&self.mask_reduce_pipeline);
+                pass.set_bind_group(0, &group, &[]);
             }
             pass.draw(0..3, 0..1);
-            let Some((mark_level_0, mark)) = &self.mark_pipelines else { continue };
-            let (pipeline, group) = match finer {
-                None => (mark_level_0, bind_group(gpu, "stencil mark", mark_level_0, 0, &from_lod)),
-                Some(finer) => {
-                    let resources = [finer, self.level_uniforms[level].as_entire_binding()];
-                    (mark, bind_group(gpu, "stencil mark", mark, 0, &resources))
-                }
-            };
-            pass.set_pipeline(pipeline);
-            pass.set_stencil_reference(1);
-            pass.set_bind_group(0, &group, &[]);
+        }
+        let (Some(mark), Some(stencil)) = (&self.mark_pipeline, &self.stencil) else { return };
+        let stencil_view = stencil.create_view(&Default::default());
+        let targets = PassTargets {
+            colour: None,
+            stencil: Some((&stencil_view, wgpu::LoadOp::Clear(0))),
+            viewport: self.atlas.size,
+        };
+        let mut pass = begin(encoder, "pyramid marks", targets, timer, None);
+        pass.set_pipeline(mark);
+        pass.set_stencil_reference(1);
+        for level in 0..self.plan.levels() as usize {
+            let resources =
+                [wgpu::BindingResource::TextureView(&self.mask.all), self.level_uniforms[level].as_entire_binding()];
+            pass.set_bind_group(0, &bind_group(gpu, "stencil mark", mark, 0, &resources), &[]);
+            set_level_viewport(&mut pass, self.atlas.rect(level));
             pass.draw(0..3, 0..1);
         }
     }
@@ -446,6 +465,19 @@ impl CpsRenderer {
                 wgpu::BindingResource::TextureView(&frame.lights.view),
             ],
         );
+        let lit = self.lit.create_view(&Default::default());
+        let stencil = self.stencil.as_ref().map(|stencil| stencil.create_view(&Default::default()));
+        let targets = PassTargets {
+            colour: Some(&lit),
+            stencil: stencil.as_ref().map(|view| (view, wgpu::LoadOp::Load)),
+            viewport: self.atlas.size,
+        };
+        let mut pass = begin(encoder, "light", targets, timer, Some(queries.set()));
+        pass.set_pipeline(&self.light_pipeline);
+        if self.stencil.is_some() {
+            pass.set_stencil_reference(1);
+        }
+        pass.set_bind_group(0, &inputs, &[]);
         for level in 0..self.plan.levels() as usize {
             let group = bind_group(
                 gpu,
@@ -454,18 +486,8 @@ impl CpsRenderer {
                 1,
                 &[self.level_uniforms[level].as_entire_binding()],
             );
-            let targets = PassTargets {
-                colour: Some(&self.lit.level_views[level]),
-                stencil: self.stencil.as_ref().map(|stencil| (&stencil.level_views[level], wgpu::LoadOp::Load)),
-                viewport: self.plan.level_extents[level],
-            };
-            let mut pass = begin(encoder, &format!("light {level}"), targets, timer, Some(queries.set()));
-            pass.set_pipeline(&self.light_pipeline);
-            if self.stencil.is_some() {
-                pass.set_stencil_reference(1);
-            }
-            pass.set_bind_group(0, &inputs, &[]);
             pass.set_bind_group(1, &group, &[]);
+            set_level_viewport(&mut pass, self.atlas.rect(level));
             pass.begin_occlusion_query(level as u32);
             pass.draw_indirect(&self.level_draws, 16 * level as u64);
             pass.end_occlusion_query();
@@ -473,8 +495,31 @@ impl CpsRenderer {
     }
 
     fn record_fill(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
-        let (Some((pulled, filled)), Some((pull, push))) = (&self.fill, &self.fill_pipelines) else { return };
+        let (Some((pulled, filled)), Some((pull, push)), Some(lit_levels)) =
+            (&self.fill, &self.fill_pipelines, &self.lit_levels)
+        else {
+            return;
+        };
         let top = self.plan.top_level;
+        // The fill pyramid reads the lit levels as mips.
+        for level in 0..=top as usize {
+            let (x, y, width, height) = self.atlas.rect(level);
+            encoder.copy_texture_to_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &self.lit,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d { x, y, z: 0 },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyTextureInfo {
+                    texture: &lit_levels.texture,
+                    mip_level: level as u32,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            );
+        }
         let copy_level = |encoder: &mut wgpu::CommandEncoder, from: &MipChain, to: &MipChain, level: u32| {
             let (width, height) = self.plan.level_extents[level as usize];
             encoder.copy_texture_to_texture(
@@ -493,7 +538,7 @@ impl CpsRenderer {
                 wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
             );
         };
-        copy_level(encoder, &self.lit, pulled, 0);
+        copy_level(encoder, lit_levels, pulled, 0);
         for level in 1..=top as usize {
             let group = bind_group(
                 gpu,
@@ -501,7 +546,7 @@ impl CpsRenderer {
                 pull,
                 0,
                 &[
-                    wgpu::BindingResource::TextureView(&self.lit.level_views[level]),
+                    wgpu::BindingResource::TextureView(&lit_levels.level_views[level]),
                     wgpu::BindingResource::TextureView(&pulled.level_views[level - 1]),
                 ],
             );
@@ -545,7 +590,13 @@ impl CpsRenderer {
     fn record_composite(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
         let (w, h) = self.plan.screen;
         let transition = SEAM_FREE_TRANSITION_LEVEL.min(self.plan.top_level);
-        let uniform = uniform_buffer(gpu, "composite", bytemuck::cast_slice(&[self.plan.top_level, transition, w, h]));
+        let mut words = vec![self.plan.top_level, transition, w, h];
+        for level in 0..9 {
+            let (x, y) = self.atlas.origins.get(level).copied().unwrap_or_default();
+            words.extend([x, y, 0, 0]);
+        }
+        let uniform = uniform_buffer(gpu, "composite", bytemuck::cast_slice(&words));
+        let lit = self.lit.create_view(&Default::default());
         let mut resources = vec![(0, uniform.as_entire_binding())];
         match (self.config.composite, &self.fill) {
             (CompositeMode::SeamFree, Some((_, filled))) => {
@@ -554,7 +605,7 @@ impl CpsRenderer {
             }
             _ => {
                 resources.push((1, wgpu::BindingResource::TextureView(&self.lod_view)));
-                resources.push((2, wgpu::BindingResource::TextureView(&self.lit.all)));
+                resources.push((2, wgpu::BindingResource::TextureView(&lit)));
             }
         }
         let group = bind_group_at(gpu, "composite", &self.composite_pipeline, 0, &resources);
