@@ -75,7 +75,10 @@ impl Bench for CpsBench {
                 ("lighting_ms", out.gpu_ms("light")),
                 ("composite_ms", out.gpu_ms("composite")),
             ],
-            counts: vec![("shaded_texels", out.shaded_texels.iter().sum())],
+            counts: vec![
+                ("shaded_texels", out.shaded_texels.iter().sum()),
+                ("render_passes", out.pass_times.len() as u64),
+            ],
         })
     }
 
@@ -93,8 +96,9 @@ impl Bench for CpsBench {
             ("fraction_of_ideal".to_owned(), variant.speedup / ideal),
             ("texel_cost_in_full_resolution_pixels".to_owned(), texel_cost),
         ]);
+        let passes = variant.counts.get("render_passes").copied().unwrap_or(0);
         let sentence = format!(
-            "ideal {ideal:.2}x from {shaded} shaded texels: {:.0} % of ideal; a shaded texel costs {texel_cost:.2} full-resolution pixels",
+            "ideal {ideal:.2}x from {shaded} shaded texels: {:.0} % of ideal; a shaded texel costs {texel_cost:.2} full-resolution pixels; {passes} render passes",
             100.0 * variant.speedup / ideal
         );
         (derived, Some(sentence))
