@@ -10,26 +10,9 @@ use std::path::Path;
 
 use anyhow::Result;
 
+use super::markup::escape;
 use super::report::{CaseRecord, Report, ReportedOutcome, write_through_temporary};
 use super::run::Sink;
-
-/// Escapes text for an XML attribute or element (and drops the control characters XML 1.0 forbids).
-fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            '\t' | '\n' | '\r' => out.push(c),
-            c if (c as u32) < 0x20 => {}
-            c => out.push(c),
-        }
-    }
-    out
-}
 
 /// The case's area: its name up to the last dot.
 fn classname(name: &str) -> &str {

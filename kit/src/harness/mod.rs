@@ -9,6 +9,7 @@ pub mod diagnostics;
 pub mod expectations;
 pub mod html;
 pub mod junit;
+pub mod markup;
 pub mod noise;
 pub mod params;
 pub mod report;
