@@ -161,6 +161,46 @@ pub fn run_sweep(gpu: &Gpu, sweep: &CpsSweep, mut progress: impl FnMut(&CpsRepor
     Ok(rows)
 }
 
+/// The seam-free composite against the original 4-neighbour one, row by row of the sweep: seam
+/// error and FLIP, and where seam-free is not at or below 4-neighbour, which of them it loses.
+fn seam_free_against_four_neighbour(rows: &[CpsReportRow]) -> String {
+    let mut lines = Vec::new();
+    let mut losses = 0;
+    for sf in rows.iter().filter(|r| r.method == "cps" && r.composite == "seam_free") {
+        let Some(fn4) = rows.iter().find(|r| {
+            r.method == "cps"
+                && r.composite == "four_neighbour"
+                && (r.policy.as_str(), r.max_level, r.lights) == (sf.policy.as_str(), sf.max_level, sf.lights)
+        }) else {
+            continue;
+        };
+        let mut lost = Vec::new();
+        if sf.seam_error > fn4.seam_error {
+            lost.push("seam error");
+        }
+        if sf.flip > fn4.flip {
+            lost.push("FLIP");
+        }
+        if !lost.is_empty() {
+            losses += 1;
+        }
+        let verdict =
+            if lost.is_empty() { "at or below".to_owned() } else { format!("worse in {}", lost.join(" and ")) };
+        lines.push(format!(
+            "| {} | {} | {} | {:.5} / {:.5} | {:.4} / {:.4} | {verdict} |",
+            sf.policy, sf.max_level, sf.lights, sf.seam_error, fn4.seam_error, sf.flip, fn4.flip
+        ));
+    }
+    format!(
+        "\n## Seam-free against 4-neighbour\n\nThe seam-free composite is meant to be at or below the original 4-neighbour \
+         interpolation in seam error and FLIP; here it is not in {losses} of {} rows.\n\n\
+         | policy | top level | lights | seam error (seam-free / 4-neighbour) | FLIP (seam-free / 4-neighbour) | verdict |\n\
+         |---|---:|---:|---:|---:|---|\n{}\n",
+        lines.len(),
+        lines.join("\n")
+    )
+}
+
 /// Writes `cps_report.json`, `cps_report.md` and `cps_report.png` into `dir`.
 pub fn write_report(dir: &Path, adapter: &crate::gpu::AdapterDescription, rows: &[CpsReportRow]) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
@@ -194,6 +234,7 @@ pub fn write_report(dir: &Path, adapter: &crate::gpu::AdapterDescription, rows: 
             row.shaded_texels
         ));
     }
+    markdown.push_str(&seam_free_against_four_neighbour(rows));
     std::fs::write(dir.join("cps_report.md"), markdown).context("writing cps_report.md")?;
 
     // One line per method through its top levels, at the sweep's largest light count (the
