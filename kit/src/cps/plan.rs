@@ -6,6 +6,7 @@
 use anyhow::Result;
 use serde::Serialize;
 
+use super::atlas::LevelAtlas;
 use super::config::{CompositeMode, CpsConfig, LodPolicy};
 use crate::gpu::Gpu;
 use crate::probe::mip_fetch::LevelFetch;
@@ -43,7 +44,7 @@ impl Plan {
         crate::deferred::gbuffer::check_size(gpu, screen)?;
         config.validate(screen)?;
         let top_level = config.max_level.min(levels_to_cover(screen.0.max(screen.1)));
-        let level_extents = (0..=top_level).map(|l| (screen.0.div_ceil(1 << l), screen.1.div_ceil(1 << l))).collect();
+        let level_extents: Vec<(u32, u32)> = (0..=top_level).map(|l| (screen.0.div_ceil(1 << l), screen.1.div_ceil(1 << l))).collect();
         let unit = 1u32 << top_level;
         let padded = (screen.0.div_ceil(unit) * unit, screen.1.div_ceil(unit) * unit);
         let max = gpu.device.limits().max_texture_dimension_2d;
@@ -54,6 +55,16 @@ impl Plan {
             screen.1,
             padded.0,
             padded.1
+        );
+        // Every level side by side in one texture (cps/atlas.rs): half as wide again as the screen.
+        let atlas = LevelAtlas::new(&level_extents).size;
+        anyhow::ensure!(
+            atlas.0 <= max && atlas.1 <= max,
+            "the {}x{} screen's levels side by side take {}x{} texels, beyond this adapter's {max}x{max} limit",
+            screen.0,
+            screen.1,
+            atlas.0,
+            atlas.1
         );
         Ok(Self {
             screen,
