@@ -34,7 +34,7 @@ impl CpsRenderer {
 
     /// Level `level` of the lit pyramid (data region only), RGBA f32 per texel.
     pub fn read_lit_level(&self, gpu: &Gpu, level: u32) -> Result<Vec<f32>> {
-        let (x, y, w, h) = self.atlas.rect(level as usize);
+        let (x, y, w, h) = self.plan.atlas.rect(level as usize);
         Ok(read_texture(gpu, &self.lit, wgpu::TextureAspect::All, 0)?.region(x, y, w, h).as_f16())
     }
 
@@ -52,7 +52,7 @@ impl CpsRenderer {
 
     /// Level `level`'s stencil (data region only): 1 where the level shades.
     pub fn read_stencil_level(&self, gpu: &Gpu, level: u32) -> Result<Vec<u8>> {
-        let (x, y, w, h) = self.atlas.rect(level as usize);
+        let (x, y, w, h) = self.plan.atlas.rect(level as usize);
         let stencil = self.stencil.as_ref().context("the naive configuration builds no stencil pyramid")?;
         Ok(read_stencil(gpu, stencil, 0)?.region(x, y, w, h).bytes)
     }

@@ -3,7 +3,7 @@
 //! screen, no fill pyramid unless the seam-free composite reads it, no edge pyramid unless the
 //! content policy does.
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use serde::Serialize;
 
 use super::atlas::LevelAtlas;
@@ -32,6 +32,8 @@ pub struct Plan {
     /// How the composite fetches at each pixel's level: directly, or by a loop over the levels
     /// where the kit's probe found the direct fetch wrong on this adapter (GL llvmpipe).
     pub level_fetch: LevelFetch,
+    /// Where each level lies in the stencil and lit atlases.
+    pub atlas: LevelAtlas,
 }
 
 /// Levels needed until one fragment covers a screen side of `extent` pixels.
@@ -44,7 +46,8 @@ impl Plan {
         crate::deferred::gbuffer::check_size(gpu, screen)?;
         config.validate(screen)?;
         let top_level = config.max_level.min(levels_to_cover(screen.0.max(screen.1)));
-        let level_extents: Vec<(u32, u32)> = (0..=top_level).map(|l| (screen.0.div_ceil(1 << l), screen.1.div_ceil(1 << l))).collect();
+        let level_extents: Vec<(u32, u32)> =
+            (0..=top_level).map(|l| (screen.0.div_ceil(1 << l), screen.1.div_ceil(1 << l))).collect();
         let unit = 1u32 << top_level;
         let padded = (screen.0.div_ceil(unit) * unit, screen.1.div_ceil(unit) * unit);
         let max = gpu.device.limits().max_texture_dimension_2d;
@@ -56,16 +59,14 @@ impl Plan {
             padded.0,
             padded.1
         );
-        // Every level side by side in one texture (cps/atlas.rs): half as wide again as the screen.
-        let atlas = LevelAtlas::new(&level_extents).size;
-        anyhow::ensure!(
-            atlas.0 <= max && atlas.1 <= max,
-            "the {}x{} screen's levels side by side take {}x{} texels, beyond this adapter's {max}x{max} limit",
-            screen.0,
-            screen.1,
-            atlas.0,
-            atlas.1
-        );
+        // Every level side by side in one texture (cps/atlas.rs): half as wide or as tall again as
+        // the screen.
+        let atlas = LevelAtlas::fitting(&level_extents, max).with_context(|| {
+            format!(
+                "the {}x{} screen's levels side by side take half as much again as the screen, beyond this adapter's {max}x{max} limit",
+                screen.0, screen.1
+            )
+        })?;
         Ok(Self {
             screen,
             top_level,
@@ -79,6 +80,7 @@ impl Plan {
             edge_pyramid: matches!(config.policy, LodPolicy::Content { .. }),
             fill_pyramid: config.composite == CompositeMode::SeamFree,
             level_fetch: LevelFetch::for_adapter(gpu)?,
+            atlas,
         })
     }
 

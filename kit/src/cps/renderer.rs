@@ -8,7 +8,6 @@
 use anyhow::{Context, Result};
 use glam::Vec3;
 
-use super::atlas::LevelAtlas;
 use super::config::{CompositeMode, CpsConfig, LodPolicy};
 use super::plan::Plan;
 use super::targets::MipChain;
@@ -104,8 +103,6 @@ pub struct CpsRenderer {
     pub edges: Option<MipChain>,
     /// OR-reduced LOD-present bits: bit l of mip l texel q = some pixel of q's block has LOD l.
     pub mask: MipChain,
-    /// Where each level lies in the stencil and lit atlases.
-    pub atlas: LevelAtlas,
     /// Every level's stencil, side by side (absent for the naive comparison).
     pub stencil: Option<wgpu::Texture>,
     /// Every lit level, side by side; alpha 1 marks a shaded texel.
@@ -135,7 +132,7 @@ impl CpsRenderer {
     pub fn new(gpu: &Gpu, screen: (u32, u32), config: CpsConfig) -> Result<Self> {
         let plan = Plan::new(gpu, screen, &config)?;
         let levels = plan.levels();
-        let atlas = LevelAtlas::new(&plan.level_extents);
+        let atlas = &plan.atlas;
         let lod = gpu.texture("lod", screen, LOD, 1, target_usage() | wgpu::TextureUsages::COPY_DST);
         let chain = |label, format| MipChain::new(gpu, label, plan.padded, levels, format, target_usage());
         // The fill pyramid's ends are copies of lit levels.
@@ -218,7 +215,6 @@ impl CpsRenderer {
                     target_usage() | wgpu::TextureUsages::COPY_DST,
                 )
             }),
-            atlas: atlas.clone(),
             fill: plan.fill_pyramid.then(|| (fill_chain("fill pull"), fill_chain("fill push"))),
             image: gpu.texture("cps composite", screen, HDR, 1, target_usage()),
             level_draws,
@@ -428,7 +424,7 @@ impl CpsRenderer {
         let targets = PassTargets {
             colour: None,
             stencil: Some((&stencil_view, wgpu::LoadOp::Clear(0))),
-            viewport: self.atlas.size,
+            viewport: self.plan.atlas.size,
         };
         let mut pass = begin(encoder, "pyramid marks", targets, timer, None);
         pass.set_pipeline(mark);
@@ -437,7 +433,7 @@ impl CpsRenderer {
             let resources =
                 [wgpu::BindingResource::TextureView(&self.mask.all), self.level_uniforms[level].as_entire_binding()];
             pass.set_bind_group(0, &bind_group(gpu, "stencil mark", mark, 0, &resources), &[]);
-            set_level_viewport(&mut pass, self.atlas.rect(level));
+            set_level_viewport(&mut pass, self.plan.atlas.rect(level));
             pass.draw(0..3, 0..1);
         }
     }
@@ -470,7 +466,7 @@ impl CpsRenderer {
         let targets = PassTargets {
             colour: Some(&lit),
             stencil: stencil.as_ref().map(|view| (view, wgpu::LoadOp::Load)),
-            viewport: self.atlas.size,
+            viewport: self.plan.atlas.size,
         };
         let mut pass = begin(encoder, "light", targets, timer, Some(queries.set()));
         pass.set_pipeline(&self.light_pipeline);
@@ -487,7 +483,7 @@ impl CpsRenderer {
                 &[self.level_uniforms[level].as_entire_binding()],
             );
             pass.set_bind_group(1, &group, &[]);
-            set_level_viewport(&mut pass, self.atlas.rect(level));
+            set_level_viewport(&mut pass, self.plan.atlas.rect(level));
             pass.begin_occlusion_query(level as u32);
             pass.draw_indirect(&self.level_draws, 16 * level as u64);
             pass.end_occlusion_query();
@@ -503,7 +499,7 @@ impl CpsRenderer {
         let top = self.plan.top_level;
         // The fill pyramid reads the lit levels as mips.
         for level in 0..=top as usize {
-            let (x, y, width, height) = self.atlas.rect(level);
+            let (x, y, width, height) = self.plan.atlas.rect(level);
             encoder.copy_texture_to_texture(
                 wgpu::TexelCopyTextureInfo {
                     texture: &self.lit,
@@ -592,7 +588,7 @@ impl CpsRenderer {
         let transition = SEAM_FREE_TRANSITION_LEVEL.min(self.plan.top_level);
         let mut words = vec![self.plan.top_level, transition, w, h];
         for level in 0..9 {
-            let (x, y) = self.atlas.origins.get(level).copied().unwrap_or_default();
+            let (x, y) = self.plan.atlas.origins.get(level).copied().unwrap_or_default();
             words.extend([x, y, 0, 0]);
         }
         let uniform = uniform_buffer(gpu, "composite", bytemuck::cast_slice(&words));
