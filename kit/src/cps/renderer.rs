@@ -87,6 +87,31 @@ fn begin<'e>(
     pass
 }
 
+/// Copies `extent` texels from mip `from.1` of `from.0` at `from.2` to the origin of mip `to.1` of
+/// `to.0`.
+fn copy_texels(
+    encoder: &mut wgpu::CommandEncoder,
+    from: (&wgpu::Texture, u32, (u32, u32)),
+    to: (&wgpu::Texture, u32),
+    (width, height): (u32, u32),
+) {
+    encoder.copy_texture_to_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture: from.0,
+            mip_level: from.1,
+            origin: wgpu::Origin3d { x: from.2.0, y: from.2.1, z: 0 },
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::TexelCopyTextureInfo {
+            texture: to.0,
+            mip_level: to.1,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+    );
+}
+
 /// Limits drawing to one level's rect of an atlas: x, y, width, height.
 fn set_level_viewport(pass: &mut wgpu::RenderPass<'_>, (x, y, width, height): (u32, u32, u32, u32)) {
     pass.set_viewport(x as f32, y as f32, width as f32, height as f32, 0.0, 1.0);
@@ -135,7 +160,7 @@ impl CpsRenderer {
         let atlas = &plan.atlas;
         let lod = gpu.texture("lod", screen, LOD, 1, target_usage() | wgpu::TextureUsages::COPY_DST);
         let chain = |label, format| MipChain::new(gpu, label, plan.padded, levels, format, target_usage());
-        // The fill pyramid's ends are copies of lit levels.
+        // The fill pyramid's chains are written by copies too (lit levels in, its ends).
         let fill_chain =
             |label| MipChain::new(gpu, label, plan.padded, levels, HDR, target_usage() | wgpu::TextureUsages::COPY_DST);
         let fullscreen = |label: &'static str,
@@ -205,16 +230,7 @@ impl CpsRenderer {
             mask: chain("lod-present pyramid", MASK),
             stencil: plan.stencil_pyramid.then(|| gpu.texture("stencil atlas", atlas.size, STENCIL, 1, target_usage())),
             lit: gpu.texture("lit atlas", atlas.size, HDR, 1, target_usage()),
-            lit_levels: plan.fill_pyramid.then(|| {
-                MipChain::new(
-                    gpu,
-                    "lit levels",
-                    plan.padded,
-                    levels,
-                    HDR,
-                    target_usage() | wgpu::TextureUsages::COPY_DST,
-                )
-            }),
+            lit_levels: plan.fill_pyramid.then(|| fill_chain("lit levels")),
             fill: plan.fill_pyramid.then(|| (fill_chain("fill pull"), fill_chain("fill push"))),
             image: gpu.texture("cps composite", screen, HDR, 1, target_usage()),
             level_draws,
@@ -497,44 +513,17 @@ impl CpsRenderer {
             return;
         };
         let top = self.plan.top_level;
-        // The fill pyramid reads the lit levels as mips.
-        for level in 0..=top as usize {
-            let (x, y, width, height) = self.plan.atlas.rect(level);
-            encoder.copy_texture_to_texture(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &self.lit,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d { x, y, z: 0 },
-                    aspect: wgpu::TextureAspect::All,
-                },
-                wgpu::TexelCopyTextureInfo {
-                    texture: &lit_levels.texture,
-                    mip_level: level as u32,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-            );
+        // The pull stage starts from lit level 0 and reads the coarser lit levels as mips.
+        copy_texels(
+            encoder,
+            (&self.lit, 0, self.plan.atlas.origins[0]),
+            (&pulled.texture, 0),
+            self.plan.level_extents[0],
+        );
+        for level in 1..=top as usize {
+            let from = (&self.lit, 0, self.plan.atlas.origins[level]);
+            copy_texels(encoder, from, (&lit_levels.texture, level as u32), self.plan.level_extents[level]);
         }
-        let copy_level = |encoder: &mut wgpu::CommandEncoder, from: &MipChain, to: &MipChain, level: u32| {
-            let (width, height) = self.plan.level_extents[level as usize];
-            encoder.copy_texture_to_texture(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &from.texture,
-                    mip_level: level,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                wgpu::TexelCopyTextureInfo {
-                    texture: &to.texture,
-                    mip_level: level,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-            );
-        };
-        copy_level(encoder, lit_levels, pulled, 0);
         for level in 1..=top as usize {
             let group = bind_group(
                 gpu,
@@ -556,7 +545,12 @@ impl CpsRenderer {
             pass.set_bind_group(0, &group, &[]);
             pass.draw(0..3, 0..1);
         }
-        copy_level(encoder, pulled, filled, top);
+        copy_texels(
+            encoder,
+            (&pulled.texture, top, (0, 0)),
+            (&filled.texture, top),
+            self.plan.level_extents[top as usize],
+        );
         for level in (0..top as usize).rev() {
             let (w, h) = self.plan.level_extents[level + 1];
             let extent = uniform_buffer(gpu, "coarser extent", bytemuck::cast_slice(&[w - 1, h - 1, 0, 0]));
