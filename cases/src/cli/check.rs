@@ -92,6 +92,9 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir).with_context(|| format!("creating the evidence folder {}", dir.display()))?;
     }
+    if let Some(dir) = &args.html {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating the HTML report folder {}", dir.display()))?;
+    }
     for path in args.json.iter().chain(&args.junit) {
         check_writable(path)?;
     }
@@ -123,19 +126,12 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     let mut database =
         database.map(|database| DatabaseSink { database, info: RunInfo::now(args.tag.clone()), run_id: None });
     let mut html = args.html.as_deref().map(|dir| HtmlSink { dir });
+    // The HTML pages last: they are the most likely to fail, and the others are written by then.
     let mut sinks: Vec<&mut dyn Sink> = vec![&mut table];
-    if let Some(sink) = html.as_mut() {
-        sinks.push(sink);
-    }
-    if let Some(sink) = json.as_mut() {
-        sinks.push(sink);
-    }
-    if let Some(sink) = junit.as_mut() {
-        sinks.push(sink);
-    }
-    if let Some(sink) = database.as_mut() {
-        sinks.push(sink);
-    }
+    sinks.extend(json.as_mut().map(|sink| sink as &mut dyn Sink));
+    sinks.extend(junit.as_mut().map(|sink| sink as &mut dyn Sink));
+    sinks.extend(database.as_mut().map(|sink| sink as &mut dyn Sink));
+    sinks.extend(html.as_mut().map(|sink| sink as &mut dyn Sink));
     let report = run(gpu, &runs, &options, &mut sinks)?;
     if let Some(DatabaseSink { database, run_id: Some(id), .. }) = &database {
         println!("recorded as run {id} in {}", database.location());
