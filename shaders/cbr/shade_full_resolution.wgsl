@@ -13,6 +13,5 @@ fn fs_shade_full_resolution(@builtin(position) position: vec4f) -> @location(0) 
     let texel = vec2i(position.xy);
     let normal = textureLoad(gbuffer_normal, texel, 0);
     let albedo = textureLoad(gbuffer_albedo, texel, 0);
-    let world = unproject(position.xy, textureLoad(gbuffer_depth, texel, 0).r, shading.screen, shading.world_from_clip);
-    return vec4f(shade_checkerboard_sample(normal, albedo, world, shading.eye, lights, shading.light_count), 1.0);
+    return shade_at(shading, position.xy, normal, albedo, textureLoad(gbuffer_depth, texel, 0).r, lights);
 }

@@ -88,7 +88,21 @@ struct SampleShading {
     phase: i32,
 }
 
-// The colour of the G-buffer sample a shade-resolve texel holds, its world position from depth.
+// The colour of a G-buffer sample taken at full-resolution position `centre` (pixels), its world
+// position from depth.
+fn shade_at(
+    shading: SampleShading,
+    centre: vec2f,
+    normal: vec4f,
+    albedo: vec4f,
+    depth: f32,
+    lights: texture_2d<f32>,
+) -> vec4f {
+    let world = unproject(centre, depth, shading.screen, shading.world_from_clip);
+    return vec4f(shade_checkerboard_sample(normal, albedo, world, shading.eye, lights, shading.light_count), 1.0);
+}
+
+// The colour of the G-buffer sample a shade-resolve texel holds.
 fn shade_layout_texel(
     shading: SampleShading,
     texel: vec2i,
@@ -97,7 +111,5 @@ fn shade_layout_texel(
     depth: f32,
     lights: texture_2d<f32>,
 ) -> vec4f {
-    let centre = layout_pixel_centre(texel, shading.quarter, shading.phase);
-    let world = unproject(centre, depth, shading.screen, shading.world_from_clip);
-    return vec4f(shade_checkerboard_sample(normal, albedo, world, shading.eye, lights, shading.light_count), 1.0);
+    return shade_at(shading, layout_pixel_centre(texel, shading.quarter, shading.phase), normal, albedo, depth, lights);
 }
