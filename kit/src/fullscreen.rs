@@ -19,11 +19,6 @@ pub struct FullscreenPipeline<'a> {
 
 impl FullscreenPipeline<'_> {
     pub fn create(&self, gpu: &Gpu) -> wgpu::RenderPipeline {
-        self.create_with_constants(gpu, &[])
-    }
-
-    /// The pipeline with the fragment shader's `override` constants set (name, value).
-    pub fn create_with_constants(&self, gpu: &Gpu, constants: &[(&str, f64)]) -> wgpu::RenderPipeline {
         let vertex = shaders::FULLSCREEN.module(gpu);
         let fragment = self.fragment.module(gpu);
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -41,7 +36,7 @@ impl FullscreenPipeline<'_> {
             fragment: Some(wgpu::FragmentState {
                 module: &fragment,
                 entry_point: Some(self.entry_point),
-                compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
+                compilation_options: Default::default(),
                 targets: self.targets,
             }),
             multiview_mask: None,

@@ -65,8 +65,6 @@ pub struct Gpu {
     clock: Option<Mutex<EncoderClock>>,
     /// Why the device was lost, once it is (set by wgpu's device-lost callback).
     lost: std::sync::Arc<Mutex<Option<String>>>,
-    /// How renderers fetch at a per-pixel mip level on this device, once probed.
-    pub(crate) level_fetch: std::sync::OnceLock<crate::probe::mip_fetch::LevelFetch>,
 }
 
 /// A command encoder whose GPU time counts towards the running case.
@@ -202,7 +200,6 @@ impl Gpu {
             queue,
             clock,
             lost,
-            level_fetch: std::sync::OnceLock::new(),
         })
     }
 

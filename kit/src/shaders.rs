@@ -52,8 +52,6 @@ shader_files! {
     CPS_LOD_PRESENT => "cps/lod_present.wgsl",
     CPS_MASK_REDUCE => "cps/mask_reduce.wgsl",
     CPS_LIGHTING => "cps/lighting.wgsl",
-    CPS_FILL_PULL => "cps/fill_pull.wgsl",
-    CPS_FILL_PUSH => "cps/fill_push.wgsl",
     CPS_COMPOSITE => "cps/composite.wgsl",
     CPS_STENCIL_MARK => "cps/stencil_mark.wgsl",
     TEXARRAY_FETCH => "texarray/fetch.wgsl",

@@ -1,14 +1,11 @@
 // Composite: every pixel takes its colour from the lit levels. Three modes: nearest (plain CPS:
 // the pixel's own coarse texel), the original method's 4-neighbour interpolation, and our
-// seam-free trilinear reconstruction over the pull-push filled pyramid. The lit levels are one
-// atlas, read at a per-pixel offset; the filled pyramid's fetches at a per-pixel mip level go
-// through load_at_level (common/fullscreen.wgsl), which the renderer sets to loop over the levels
-// where the kit's probe found the direct fetch wrong.
+// seam-free one, linear over the shading samples where they were taken. The lit levels are one
+// atlas, read at a per-pixel offset (no fetch at a per-pixel mip level, which GL llvmpipe gets
+// wrong: kit.fetch.per_pixel_level).
 
 struct Composite {
     max_level: u32,
-    // Seam-free mode: the level whose blocks carry the smooth level field.
-    transition_level: u32,
     screen: vec2u,
     // Where each level's texels start in the lit atlas (xy).
     origins: array<vec4u, 9>,
@@ -69,44 +66,102 @@ fn fs_composite_four_neighbour(@builtin(position) position: vec4f) -> @location(
     return vec4f(mix(top, bottom, w.y).rgb, 1.0);
 }
 
-@group(0) @binding(3) var filled: texture_2d<f32>;
-@group(0) @binding(4) var mask: texture_2d<u32>;
-
-// Texels of `level` that hold data: ceil(screen / 2^level).
-fn level_last(level: u32) -> vec2i {
-    let size = 1u << level;
-    return vec2i((composite.screen + size - 1u) / size) - 1;
+// Where a fragment's shading was computed: the centre pixel of its 2^l block, clamped to the
+// screen (cps/lighting.wgsl); a level-0 fragment is its own pixel.
+fn sample_of(pixel: vec2i) -> vec2i {
+    let level = level_of(pixel);
+    let origin = (pixel >> vec2u(level)) << vec2u(level);
+    return min(origin + ((1 << level) >> 1), vec2i(composite.screen) - 1);
 }
 
-fn filled_at(p: vec2i, level: u32) -> vec4f {
-    let at = (vec2f(p) + 0.5) / f32(1u << level) - 0.5;
-    return bilinear_load(filled, level, at, level_last(level));
+fn on_screen(pixel: vec2i) -> bool {
+    return all(pixel >= vec2i(0)) && all(pixel < vec2i(composite.screen));
 }
 
-// The finest level present in texel t of the mask pyramid's transition level.
-fn finest_present(t: vec2i) -> f32 {
-    let last = level_last(composite.transition_level);
-    let clamped = clamp(t, vec2i(0), last);
-    return f32(firstTrailingBit(textureLoad(mask, clamped, i32(composite.transition_level)).x));
+// A corner for the seam-free triangle: the pixel whose fragment's sample it is (P itself for a
+// flat corner of P's own colour) and the step from A to it (zero where unusable).
+struct Corner {
+    pixel: vec2i,
+    edge: vec2i,
 }
 
-// Ours: a smooth level field, the finest level present per 2^k block (k = the transition level)
-// interpolated bilinearly between blocks, selects a trilinear blend of the filled pyramid. Every
-// texel read holds shading (own, pulled from finer or pushed from coarser) and the field changes
-// gradually, so no step appears where the LOD changes.
+// The sample of the fragment just across P's fragment along `axis` on the side of `direction`;
+// unusable (zero step) past the screen's edge.
+fn corner_across(p: vec2i, a: vec2i, axis: u32, direction: i32) -> Corner {
+    let across = beyond_fragment(p, axis, direction);
+    if !on_screen(across) {
+        return Corner(p, vec2i(0));
+    }
+    return Corner(across, sample_of(across) - a);
+}
+
+// The two corners along `axis`, the side P lies towards first (either, where P is level with A).
+// Where P lies beyond the outermost sample towards the screen's edge, or no sample lies apart
+// from A (a level that does not nest in the others' blocks can hold another's sample), the first
+// is flat: P's own colour, level with P, so the composite is constant along `axis` there, as
+// clamp-to-edge addressing is, rather than extrapolated.
+fn corners_along(p: vec2i, a: vec2i, axis: u32, toward: i32) -> array<Corner, 2> {
+    var corners = array(corner_across(p, a, axis, toward), corner_across(p, a, axis, -toward));
+    if all(corners[0].edge == vec2i(0)) && p[axis] == a[axis] {
+        corners = array(corners[1], corners[0]);
+    }
+    if all(corners[0].edge == vec2i(0)) {
+        var edge = vec2i(0);
+        edge[axis] = toward * max(abs(p[axis] - a[axis]), 1);
+        corners[0] = Corner(p, edge);
+    }
+    return corners;
+}
+
+// Ours: linear interpolation over a triangle of three shading samples, each where its fragment
+// was lit: A, the pixel's own fragment's, and one across its fragment along x (B) and along y (D):
+// C = C(A) + beta (C(B) - C(A)) + delta (C(D) - C(A)) with P - A = beta (B - A) + delta (D - A).
+// Shading linear in screen position is reproduced exactly whatever the levels, so a level boundary
+// adds no step the shading does not have, except beyond the outermost samples towards the
+// screen's edges, where it is constant (no extrapolation). Of the four triangles (either side
+// along each axis, the sides P lies towards first) it takes the first that holds P (weights in
+// [0, 1]: no overshoot) with three samples, else with a flat corner, else the first that is not
+// degenerate (it extrapolates); with none, P's own colour. Integer tests, so every adapter picks
+// the same triangle.
 @fragment
 fn fs_composite_seam_free(@builtin(position) position: vec4f) -> @location(0) vec4f {
     let p = vec2i(position.xy);
-    let at = (vec2f(p) + 0.5) / f32(1u << composite.transition_level) - 0.5;
-    let base = floor(at);
-    let f = at - base;
-    let t = vec2i(base);
-    let field = mix(
-        mix(finest_present(t), finest_present(t + vec2i(1, 0)), f.x),
-        mix(finest_present(t + vec2i(0, 1)), finest_present(t + vec2i(1, 1)), f.x),
-        f.y,
-    );
-    let fine = min(u32(floor(field)), composite.max_level);
-    let coarse = min(fine + 1u, composite.max_level);
-    return vec4f(mix(filled_at(p, fine), filled_at(p, coarse), field - floor(field)).rgb, 1.0);
+    let a = sample_of(p);
+    let d = p - a;
+    let toward = select(vec2i(1), vec2i(-1), p < a);
+    var along_x = corners_along(p, a, 0u, toward.x);
+    var along_y = corners_along(p, a, 1u, toward.y);
+    var chosen = vec3i(0);
+    var found = 0;
+    for (var i = 0; i < 4; i++) {
+        let u = along_x[i & 1].edge;
+        let v = along_y[i >> 1].edge;
+        // beta = nb / det, delta = nd / det.
+        let det = u.x * v.y - u.y * v.x;
+        let nb = d.x * v.y - d.y * v.x;
+        let nd = u.x * d.y - u.y * d.x;
+        let sign = select(1, -1, det < 0);
+        let holds = nb * sign >= 0 && nd * sign >= 0 && (nb + nd) * sign <= det * sign;
+        let flat = all(along_x[i & 1].pixel == p) || all(along_y[i >> 1].pixel == p);
+        // 3: holds P with three samples; 2: holds P with a flat corner; 1: extrapolates; 0: degenerate.
+        let rank = select(0, select(1, select(3, 2, flat), holds), det != 0);
+        if rank > found {
+            found = rank;
+            chosen = vec3i(i, nb, nd);
+        }
+        if found == 3 {
+            break;
+        }
+    }
+    let own = coarse_colour(p);
+    if found == 0 {
+        return vec4f(own.rgb, 1.0);
+    }
+    let b = along_x[chosen.x & 1];
+    let e = along_y[chosen.x >> 1];
+    let det = f32(b.edge.x * e.edge.y - b.edge.y * e.edge.x);
+    let beta = f32(chosen.y) / det;
+    let delta = f32(chosen.z) / det;
+    let colour = own + beta * (coarse_colour(b.pixel) - own) + delta * (coarse_colour(e.pixel) - own);
+    return vec4f(colour.rgb, 1.0);
 }

@@ -1,7 +1,8 @@
 // Content LOD policy, step 1: marks pixels on a geometric discontinuity. A pixel is an edge
 // where its surface coverage, its normal (angle beyond `normal_cos`) or its position (a jump
-// beyond `depth_ratio` times its distance from the eye) differs from its right or lower
-// neighbour's. Positions rather than the depth buffer: GLSL cannot load from depth textures.
+// beyond `depth_ratio` times its distance from the eye) differs from any of its four
+// neighbours': both sides of a discontinuity are marked, so no coarse fragment borders one and
+// the composites never interpolate across it. Positions rather than the depth buffer: GLSL cannot load from depth textures.
 
 struct EdgeThresholds {
     eye: vec3f,
@@ -34,5 +35,8 @@ fn fs_edge_mask(@builtin(position) position: vec4f) -> @location(0) u32 {
     let last = textureDimensions(gbuffer_position) - 1u;
     let right = vec2u(min(pixel.x + 1u, last.x), pixel.y);
     let below = vec2u(pixel.x, min(pixel.y + 1u, last.y));
-    return select(0u, 1u, differs(pixel, right) || differs(pixel, below));
+    let left = vec2u(max(pixel.x, 1u) - 1u, pixel.y);
+    let above = vec2u(pixel.x, max(pixel.y, 1u) - 1u);
+    let edge = differs(pixel, right) || differs(pixel, below) || differs(pixel, left) || differs(pixel, above);
+    return select(0u, 1u, edge);
 }

@@ -10,6 +10,7 @@ use glam::DVec3;
 
 use super::config::LodPolicy;
 use crate::deferred::phong::Surface;
+use crate::scene::hash::SeededRng;
 
 /// log2's absolute error on the GPU is within 2^-21 (Vulkan's bound on 0.5..2, and relative 3 ulp
 /// elsewhere), the distance's relative error within 2^-21 moves log2 by 2^-21 / ln 2: a level
@@ -25,6 +26,31 @@ const COMPARISON_AMBIGUITY: f64 = 1.0 / (1u64 << 20) as f64;
 pub struct ModelledLod {
     pub levels: Vec<u8>,
     pub ambiguous: Vec<bool>,
+}
+
+/// A seeded LOD made of whole blocks, as the content policy's is: every pixel of level l has its
+/// aligned 2^l block all at level l. From `top` down, each such block splits into its four
+/// children with probability one half.
+pub fn nested_random(screen: (u32, u32), top: u32, seed: u32) -> Vec<u8> {
+    let (w, h) = screen;
+    let mut rng = SeededRng::new(seed);
+    let mut lod = vec![top as u8; (w * h) as usize];
+    for level in (1..=top).rev() {
+        for by in 0..h.div_ceil(1 << level) {
+            for bx in 0..w.div_ceil(1 << level) {
+                let rows = (by << level)..((by + 1) << level).min(h);
+                let pixels: Vec<usize> = rows
+                    .flat_map(|y| ((bx << level)..((bx + 1) << level).min(w)).map(move |x| (y * w + x) as usize))
+                    .collect();
+                if pixels.iter().all(|&i| u32::from(lod[i]) == level) && rng.range(0, 2) == 1 {
+                    for i in pixels {
+                        lod[i] = level as u8 - 1;
+                    }
+                }
+            }
+        }
+    }
+    lod
 }
 
 /// Foveated: level = floor(log2(1 + distance / inner_radius)) at the pixel centre, capped at `top`;
@@ -74,7 +100,7 @@ fn across_edge(a: &Surface, b: &Surface, eye: DVec3, normal_cos: f64, depth_rati
     }
 }
 
-/// Content: a pixel is an edge where it differs from its right or lower neighbour (clamped at the
+/// Content: a pixel is an edge where it differs from any of its four neighbours (clamped at the
 /// screen's border); its level is the coarsest l ≤ `top` whose aligned 2^l block, and every finer
 /// block around it, holds no edge pixel (level 0 if its 2×2 block holds one).
 pub fn content(screen: (u32, u32), surfaces: &[Surface], eye: glam::Vec3, policy: (f32, f32), top: u32) -> ModelledLod {
@@ -87,12 +113,19 @@ pub fn content(screen: (u32, u32), surfaces: &[Surface], eye: glam::Vec3, policy
         .flat_map(|y| (0..w).map(move |x| (x, y)))
         .map(|(x, y)| {
             let here = at(x, y);
-            let right = across_edge(here, at((x + 1).min(w - 1), y), eye, normal_cos, depth_ratio);
-            let below = across_edge(here, at(x, (y + 1).min(h - 1)), eye, normal_cos, depth_ratio);
-            match (right, below) {
-                (Some(true), _) | (_, Some(true)) => Some(true),
-                (Some(false), Some(false)) => Some(false),
-                _ => None,
+            let neighbours = [
+                at((x + 1).min(w - 1), y),
+                at(x, (y + 1).min(h - 1)),
+                at(x.saturating_sub(1), y),
+                at(x, y.saturating_sub(1)),
+            ];
+            let answers = neighbours.map(|there| across_edge(here, there, eye, normal_cos, depth_ratio));
+            if answers.contains(&Some(true)) {
+                Some(true)
+            } else if answers.iter().all(|a| *a == Some(false)) {
+                Some(false)
+            } else {
+                None
             }
         })
         .collect();
@@ -177,12 +210,13 @@ mod tests {
 
     #[test]
     fn content_level_is_the_coarsest_edge_free_block() {
-        // 4×1 screen: a coverage change between x = 1 and x = 2 makes pixel 1 an edge.
+        // 8×1 screen: a coverage change between x = 3 and x = 4 makes pixels 3 and 4 edges.
         let empty = Surface { position: [0.0; 4], normal: [0.0; 4], albedo: [0.0; 4] };
         let full = Surface { position: [0.0, 0.0, -1.0, 1.0], normal: [0.0, 0.0, 1.0, 1.0], albedo: [0.0; 4] };
-        let surfaces = [full, full, empty, empty];
-        let lod = content((4, 1), &surfaces, glam::Vec3::ZERO, (0.9, 0.05), 2);
-        // Level-1 blocks: {0,1} holds the edge; {2,3} does not, but level 2's {0..3} does.
-        assert_eq!(lod.levels, vec![0, 0, 1, 1]);
+        let surfaces = [full, full, full, full, empty, empty, empty, empty];
+        let lod = content((8, 1), &surfaces, glam::Vec3::ZERO, (0.9, 0.05), 2);
+        // Level-1 blocks {2,3} and {4,5} hold an edge; {0,1} and {6,7} do not, but their level-2
+        // blocks {0..3} and {4..7} do.
+        assert_eq!(lod.levels, vec![1, 1, 0, 0, 0, 0, 1, 1]);
     }
 }

@@ -1,15 +1,13 @@
 //! The plan: which levels, targets and passes a CPS frame needs for a screen and configuration.
 //! Only what can contribute is created: no level coarser than one fragment covering the whole
-//! screen, no fill pyramid unless the seam-free composite reads it, no edge pyramid unless the
-//! content policy does.
+//! screen, no edge pyramid unless the content policy reads it.
 
 use anyhow::{Context, Result};
 use serde::Serialize;
 
 use super::atlas::LevelAtlas;
-use super::config::{CompositeMode, CpsConfig, LodPolicy};
+use super::config::{CpsConfig, LodPolicy};
 use crate::gpu::Gpu;
-use crate::probe::mip_fetch::LevelFetch;
 
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Plan {
@@ -28,10 +26,6 @@ pub struct Plan {
     /// The stencil pyramid (absent for the naive, shade-everything comparison).
     pub stencil_pyramid: bool,
     pub edge_pyramid: bool,
-    pub fill_pyramid: bool,
-    /// How the composite fetches at each pixel's level: directly, or by a loop over the levels
-    /// where the kit's probe found the direct fetch wrong on this adapter (GL llvmpipe).
-    pub level_fetch: LevelFetch,
     /// Where each level lies in the stencil and lit atlases.
     pub atlas: LevelAtlas,
 }
@@ -78,8 +72,6 @@ impl Plan {
                 ),
             stencil_pyramid: !config.shade_every_texel,
             edge_pyramid: matches!(config.policy, LodPolicy::Content { .. }),
-            fill_pyramid: config.composite == CompositeMode::SeamFree,
-            level_fetch: LevelFetch::for_adapter(gpu)?,
             atlas,
         })
     }

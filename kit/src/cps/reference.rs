@@ -1,11 +1,10 @@
 //! CPU expectations for CPS: how many coarse texels each level must shade for a LOD buffer, and
 //! the three composites computed from read-back lit levels by the same equations as
-//! `shaders/cps/composite.wgsl`, `fill_pull.wgsl` and `fill_push.wgsl` (stored values rounded
-//! to f16, as the GPU's `Rgba16Float` targets store them), each pixel with the bound a correct GPU
-//! keeps to: one f16 ulp per store on the way (CPU and GPU may round a value a hair apart to
-//! neighbouring f16s), f32 evaluation-order slack, both scaled by the magnitudes entering the
-//! pixel, so bright scenes get proportionally wider bounds and dim pixels beside bright ones no
-//! looser ones than they need.
+//! `shaders/cps/composite.wgsl`, each pixel with the bound a correct GPU keeps to: one f16 ulp for
+//! the store to the `Rgba16Float` image (CPU and GPU may round a value a hair apart to
+//! neighbouring f16s) and f32 evaluation-order slack, scaled by the magnitudes entering the pixel,
+//! so bright scenes get proportionally wider bounds and dim pixels beside bright ones no looser
+//! ones than they need.
 
 use super::config::CompositeMode;
 
@@ -48,31 +47,11 @@ impl Level {
         let y = y.clamp(0, i64::from(self.extent.1) - 1);
         self.texels[(y * i64::from(self.extent.0) + x) as usize]
     }
-
-    /// The (up to) four texels a bilinear read at `at` mixes.
-    fn around(&self, at: [f32; 2]) -> [[f32; 4]; 4] {
-        let (x, y) = (at[0].floor() as i64, at[1].floor() as i64);
-        [self.at(x, y), self.at(x + 1, y), self.at(x, y + 1), self.at(x + 1, y + 1)]
-    }
-
-    /// Bilinear interpolation at texel coordinate `at` (centres at integers), clamped to the data.
-    fn bilinear(&self, at: [f32; 2]) -> [f32; 4] {
-        let base = [at[0].floor(), at[1].floor()];
-        let f = [at[0] - base[0], at[1] - base[1]];
-        let (x, y) = (base[0] as i64, base[1] as i64);
-        let top = mix(self.at(x, y), self.at(x + 1, y), f[0]);
-        let bottom = mix(self.at(x, y + 1), self.at(x + 1, y + 1), f[0]);
-        mix(top, bottom, f[1])
-    }
 }
 
 /// WGSL's `mix`: a · (1 − t) + b · t.
 fn mix(a: [f32; 4], b: [f32; 4], t: f32) -> [f32; 4] {
     std::array::from_fn(|i| a[i] * (1.0 - t) + b[i] * t)
-}
-
-fn to_f16(texel: [f32; 4]) -> [f32; 4] {
-    texel.map(|v| half::f16::from_f32(v).to_f32())
 }
 
 /// One f16 ulp relative to the value (10 fraction bits): what one store to an f16 target may move
@@ -99,18 +78,67 @@ impl Composited {
     }
 }
 
-/// The bound for `value` made from `inputs` (each carrying its own error `carried`), stored to f16
-/// once: the carried errors (convex combinations do not amplify them), the f32 slack of the
-/// largest input and the final rounding.
-fn stored_bound(value: [f32; 4], inputs: &[[f32; 4]], carried: [f32; 4], store_ulps: f32) -> [f32; 4] {
+/// The bound for `value` made from `inputs` and stored to f16 once: the f32 slack of the largest
+/// input and the final rounding.
+fn stored_bound(value: [f32; 4], inputs: &[[f32; 4]]) -> [f32; 4] {
     std::array::from_fn(|c| {
         let reach = inputs.iter().map(|t| t[c].abs()).fold(0.0f32, f32::max);
-        carried[c] + F32_SLACK * reach + store_ulps * value[c].abs() + F16_SUBNORMAL
+        F32_SLACK * reach + F16_ULP * value[c].abs() + F16_SUBNORMAL
     })
 }
 
-fn channel_max(a: [f32; 4], b: [f32; 4]) -> [f32; 4] {
-    std::array::from_fn(|c| a[c].max(b[c]))
+/// The pixel whose G-buffer sample texel `texel` of `level` is lit at: the centre pixel of its
+/// 2^level block, clamped to the screen (`shaders/cps/lighting.wgsl`).
+pub fn sample_pixel(screen: (u32, u32), level: u32, texel: [i64; 2]) -> [i64; 2] {
+    let last = [i64::from(screen.0) - 1, i64::from(screen.1) - 1];
+    [0, 1].map(|i| ((texel[i] << level) + ((1 << level) >> 1)).min(last[i]))
+}
+
+/// Levels 0..=top whose every texel holds `shading` at its sample pixel: lit levels as the
+/// lighting pass would leave them for shading that is a known function of screen position.
+pub fn sampled_levels(screen: (u32, u32), top: u32, shading: impl Fn([i64; 2]) -> [f32; 4]) -> Vec<Level> {
+    (0..=top)
+        .map(|level| {
+            let extent = (screen.0.div_ceil(1 << level), screen.1.div_ceil(1 << level));
+            let texels = (0..i64::from(extent.1))
+                .flat_map(|y| (0..i64::from(extent.0)).map(move |x| [x, y]))
+                .map(|texel| shading(sample_pixel(screen, level, texel)))
+                .collect();
+            Level { extent, texels }
+        })
+        .collect()
+}
+
+/// A corner for the seam-free triangle: the pixel whose fragment's sample it is and the step from
+/// A to that sample.
+#[derive(Clone, Copy, Debug)]
+struct Corner {
+    pixel: [i64; 2],
+    edge: [i64; 2],
+}
+
+/// The seam-free composite's triangle at a pixel P: the pixels whose fragments' samples are its
+/// corners (P's own A, B across x, D across y) and P − A = β (B − A) + δ (D − A) as
+/// β = `nb` / `det`, δ = `nd` / `det`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Triangle {
+    pub corners: [[i64; 2]; 3],
+    pub det: i64,
+    pub nb: i64,
+    pub nd: i64,
+}
+
+impl Triangle {
+    /// (β, δ) as the GPU computes them (f32).
+    pub fn weights(&self) -> (f32, f32) {
+        (self.nb as f32 / self.det as f32, self.nd as f32 / self.det as f32)
+    }
+
+    /// Whether a corner is flat (P's own colour, beyond the outermost samples): there the
+    /// composite is constant along that axis rather than linear.
+    pub fn has_flat_corner(&self) -> bool {
+        self.corners[1] == self.corners[0] || self.corners[2] == self.corners[0]
+    }
 }
 
 /// The inputs of a composite: the screen, its LOD buffer and the lit levels 0..=top.
@@ -167,100 +195,91 @@ impl CompositeInputs<'_> {
         (mix(top, bottom, q[1].abs()), inputs)
     }
 
-    /// The pull-push filled pyramid, as `fill_pull.wgsl` then `fill_push.wgsl` make it, each
-    /// level with its texels' error bounds (a level of bounds per channel; lit texels carry none).
-    pub fn filled(&self) -> Vec<(Level, Level)> {
-        let exact = |level: &Level| Level { extent: level.extent, texels: vec![[0.0; 4]; level.texels.len()] };
-        let mut pulled: Vec<(Level, Level)> = vec![(self.lit[0].clone(), exact(&self.lit[0]))];
-        for level in 1..self.lit.len() {
-            let lit = &self.lit[level];
-            let (finer, finer_error) = &pulled[level - 1];
-            let (w, h) = lit.extent;
-            let (texels, errors): (Vec<[f32; 4]>, Vec<[f32; 4]>) = (0..h)
-                .flat_map(|y| (0..w).map(move |x| (x, y)))
-                .map(|(x, y)| {
-                    let own = lit.texels[(y * w + x) as usize];
-                    if own[3] == 1.0 {
-                        return (own, [0.0; 4]);
-                    }
-                    let children: Vec<usize> = [(0, 0), (1, 0), (0, 1), (1, 1)]
-                        .into_iter()
-                        .map(|(dx, dy)| (2 * x + dx, 2 * y + dy))
-                        .filter(|&(cx, cy)| cx < finer.extent.0 && cy < finer.extent.1)
-                        .map(|(cx, cy)| (cy * finer.extent.0 + cx) as usize)
-                        .filter(|&i| finer.texels[i][3] == 1.0)
-                        .collect();
-                    if children.is_empty() {
-                        return ([0.0; 4], [0.0; 4]);
-                    }
-                    let n = children.len() as f32;
-                    let values: Vec<[f32; 4]> = children.iter().map(|&i| finer.texels[i]).collect();
-                    let sum = values.iter().fold([0.0f32; 3], |s, t| [s[0] + t[0], s[1] + t[1], s[2] + t[2]]);
-                    let texel = to_f16([sum[0] / n, sum[1] / n, sum[2] / n, 1.0]);
-                    let carried = children.iter().fold([0.0; 4], |e, &i| channel_max(e, finer_error.texels[i]));
-                    (texel, stored_bound(texel, &values, carried, F16_ULP))
-                })
-                .unzip();
-            pulled.push((Level { extent: lit.extent, texels }, Level { extent: lit.extent, texels: errors }));
-        }
-        let mut filled = vec![pulled.last().expect("at least one level").clone()];
-        for level in (0..pulled.len() - 1).rev() {
-            let (coarser, coarser_error) = filled.last().expect("pushed from the top").clone();
-            let (own, own_error) = &pulled[level];
-            let (w, h) = own.extent;
-            let (texels, errors): (Vec<[f32; 4]>, Vec<[f32; 4]>) = (0..h)
-                .flat_map(|y| (0..w).map(move |x| (x, y)))
-                .map(|(x, y)| {
-                    let i = (y * w + x) as usize;
-                    if own.texels[i][3] == 1.0 {
-                        return (own.texels[i], own_error.texels[i]);
-                    }
-                    let at = [(x as f32 + 0.5) * 0.5 - 0.5, (y as f32 + 0.5) * 0.5 - 0.5];
-                    let c = coarser.bilinear(at);
-                    let texel = to_f16([c[0], c[1], c[2], 1.0]);
-                    let carried = coarser_error.around(at).into_iter().fold([0.0; 4], channel_max);
-                    (texel, stored_bound(texel, &coarser.around(at), carried, F16_ULP))
-                })
-                .unzip();
-            filled.push((Level { extent: own.extent, texels }, Level { extent: own.extent, texels: errors }));
-        }
-        filled.reverse();
-        filled
+    /// Where the fragment holding `p` was lit: its block's centre pixel, clamped to the screen
+    /// (`shaders/cps/lighting.wgsl`).
+    fn sample_of(&self, p: [i64; 2]) -> [i64; 2] {
+        let level = self.level_of(p);
+        let [x, y] = self.clamp(p);
+        sample_pixel(self.screen, level, [x >> level, y >> level])
     }
 
-    /// Finest level present in each texel of level `k` (the lowest bit of the LOD-present mask).
-    fn finest_present(&self, k: u32) -> Level {
-        let (w, h) = (self.screen.0.div_ceil(1 << k), self.screen.1.div_ceil(1 << k));
-        let mut finest = vec![u32::MAX; (w * h) as usize];
-        for y in 0..self.screen.1 {
-            for x in 0..self.screen.0 {
-                let cell = &mut finest[((y >> k) * w + (x >> k)) as usize];
-                *cell = (*cell).min(self.level_of([i64::from(x), i64::from(y)]));
-            }
-        }
-        Level { extent: (w, h), texels: finest.into_iter().map(|l| [l as f32; 4]).collect() }
+    fn on_screen(&self, p: [i64; 2]) -> bool {
+        (0..i64::from(self.screen.0)).contains(&p[0]) && (0..i64::from(self.screen.1)).contains(&p[1])
     }
 
-    fn seam_free(&self, p: [i64; 2], filled: &[(Level, Level)]) -> Composited {
-        let top = self.top();
-        let k = super::renderer::SEAM_FREE_TRANSITION_LEVEL.min(top);
-        let cell = (1i64 << k) as f32;
-        let field =
-            self.finest_present(k).bilinear([(p[0] as f32 + 0.5) / cell - 0.5, (p[1] as f32 + 0.5) / cell - 0.5])[0];
-        let fine = (field.floor() as u32).min(top);
-        let coarse = (fine + 1).min(top);
-        let at = |level: u32| {
-            let size = (1i64 << level) as f32;
-            [(p[0] as f32 + 0.5) / size - 0.5, (p[1] as f32 + 0.5) / size - 0.5]
-        };
-        let [(fine_colour, fine_error), (coarse_colour, coarse_error)] = [fine, coarse].map(|level| {
-            let (colours, errors) = &filled[level as usize];
-            (colours.bilinear(at(level)), errors.around(at(level)).into_iter().fold([0.0; 4], channel_max))
+    /// The sample of the fragment just across `p`'s along `axis` on the side of `direction`: the
+    /// pixel whose fragment it is and the step from `a` to it; unusable (zero step) past the
+    /// screen's edge.
+    fn corner_across(&self, p: [i64; 2], a: [i64; 2], axis: usize, direction: i64) -> Corner {
+        let across = self.beyond_fragment(p, axis, direction);
+        if !self.on_screen(across) {
+            return Corner { pixel: p, edge: [0, 0] };
+        }
+        let b = self.sample_of(across);
+        Corner { pixel: across, edge: [b[0] - a[0], b[1] - a[1]] }
+    }
+
+    /// The two corners along `axis`, the side `p` lies towards first (either where level with
+    /// `a`); the first flat (`p`'s own colour, level with `p`) where `p` lies beyond the outermost
+    /// sample or no sample lies apart from `a`.
+    fn corners_along(&self, p: [i64; 2], a: [i64; 2], axis: usize, toward: i64) -> [Corner; 2] {
+        let mut corners = [self.corner_across(p, a, axis, toward), self.corner_across(p, a, axis, -toward)];
+        if corners[0].edge == [0, 0] && p[axis] == a[axis] {
+            corners.swap(0, 1);
+        }
+        if corners[0].edge == [0, 0] {
+            let mut edge = [0, 0];
+            edge[axis] = toward * (p[axis] - a[axis]).abs().max(1);
+            corners[0] = Corner { pixel: p, edge };
+        }
+        corners
+    }
+
+    /// The seam-free composite's triangle at `p`, as `fs_composite_seam_free` picks it: the
+    /// first of the four (either side along each axis, the sides `p` lies towards first) that
+    /// holds P with three samples, else with a flat corner, else the first that is not
+    /// degenerate, else none.
+    pub fn seam_free_triangle(&self, p: [i64; 2]) -> Option<Triangle> {
+        let a = self.sample_of(p);
+        let d = [p[0] - a[0], p[1] - a[1]];
+        let toward = [0, 1].map(|i| if p[i] < a[i] { -1 } else { 1 });
+        let along_x = self.corners_along(p, a, 0, toward[0]);
+        let along_y = self.corners_along(p, a, 1, toward[1]);
+        let candidates = (0..4).filter_map(|i| {
+            let (b, e) = (along_x[i & 1], along_y[i >> 1]);
+            let (u, v) = (b.edge, e.edge);
+            let det = u[0] * v[1] - u[1] * v[0];
+            let nb = d[0] * v[1] - d[1] * v[0];
+            let nd = u[0] * d[1] - u[1] * d[0];
+            let sign = det.signum();
+            let holds = nb * sign >= 0 && nd * sign >= 0 && (nb + nd) * sign <= det * sign;
+            let triangle = Triangle { corners: [p, b.pixel, e.pixel], det, nb, nd };
+            let rank = match (holds, triangle.has_flat_corner()) {
+                (true, false) => 3,
+                (true, true) => 2,
+                (false, _) => 1,
+            };
+            (det != 0).then_some((rank, triangle))
         });
-        let colour = mix(fine_colour, coarse_colour, field - field.floor());
-        let inputs: Vec<[f32; 4]> =
-            [fine, coarse].iter().flat_map(|&level| filled[level as usize].0.around(at(level))).collect();
-        let bound = stored_bound(colour, &inputs, channel_max(fine_error, coarse_error), F16_ULP);
+        // The first of the highest rank.
+        candidates.rev().max_by_key(|&(rank, _)| rank).map(|(_, triangle)| triangle)
+    }
+
+    /// Ours, as `fs_composite_seam_free`: C(A) + β (C(B) − C(A)) + δ (C(D) − C(A)).
+    fn seam_free(&self, p: [i64; 2]) -> Composited {
+        let own = self.coarse_colour(p);
+        let Some(triangle) = self.seam_free_triangle(p) else {
+            let bound = stored_bound(own, &[own]);
+            return Composited { colour: own, bound: [bound[0], bound[1], bound[2]] };
+        };
+        let (beta, delta) = triangle.weights();
+        let [_, across_x, across_y] = triangle.corners.map(|at| self.coarse_colour(at));
+        let colour: [f32; 4] =
+            std::array::from_fn(|c| own[c] + beta * (across_x[c] - own[c]) + delta * (across_y[c] - own[c]));
+        // f32 slack grows with the weights where the triangle extrapolates.
+        let amplification = 1.0 + 2.0 * (beta.abs() + delta.abs());
+        let inputs = [own, across_x, across_y].map(|t| t.map(|v| v * amplification));
+        let bound = stored_bound(colour, &inputs);
         Composited { colour, bound: [bound[0], bound[1], bound[2]] }
     }
 
@@ -271,53 +290,29 @@ impl CompositeInputs<'_> {
 
     /// The composite in `mode` with each pixel's bound (its f16 store included).
     pub fn composite_with_bounds(&self, mode: CompositeMode) -> Vec<Composited> {
-        let filled = (mode == CompositeMode::SeamFree).then(|| self.filled());
         let (w, h) = self.screen;
         let direct = |colour: [f32; 4], inputs: &[[f32; 4]]| {
-            let bound = stored_bound(colour, inputs, [0.0; 4], F16_ULP);
+            let bound = stored_bound(colour, inputs);
             Composited { colour, bound: [bound[0], bound[1], bound[2]] }
         };
         (0..h)
             .flat_map(|y| (0..w).map(move |x| [i64::from(x), i64::from(y)]))
             .map(|p| {
-                let pixel = match (mode, &filled) {
-                    (CompositeMode::Nearest, _) => {
+                let pixel = match mode {
+                    CompositeMode::Nearest => {
                         let colour = self.coarse_colour(p);
                         direct(colour, &[colour])
                     }
-                    (CompositeMode::FourNeighbour, _) => {
+                    CompositeMode::FourNeighbour => {
                         let (colour, inputs) = self.four_neighbour(p);
                         direct(colour, &inputs)
                     }
-                    (CompositeMode::SeamFree, Some(filled)) => self.seam_free(p, filled),
-                    (CompositeMode::SeamFree, None) => unreachable!("filled is computed for the seam-free mode"),
+                    CompositeMode::SeamFree => self.seam_free(p),
                 };
                 Composited { colour: [pixel.colour[0], pixel.colour[1], pixel.colour[2], 1.0], ..pixel }
             })
             .collect()
     }
-}
-
-/// Whether the kit claims, for a screen and a plan's top level, that the seam-free composite has
-/// a lower seam error than the 4-neighbour one (Err: why not). The claim needs at least two level
-/// steps (with one, both blend over the same two pixels and tie within rounding) and a short side
-/// of at least four transition cells of 2^k pixels, so the blend band is not clipped by the
-/// screen's edges; measured on lavapipe over sizes 1x8..200x150, top levels 1..8 and 1..1000
-/// lights, it held wherever these do. Outside them `fragkit report cps` shows both errors.
-pub fn seam_claim_applies(screen: (u32, u32), top_level: u32) -> Result<(), String> {
-    let k = super::renderer::SEAM_FREE_TRANSITION_LEVEL.min(top_level);
-    if top_level < 2 {
-        return Err(format!("top level {top_level} has fewer than two level steps"));
-    }
-    let needed = 4 << k;
-    if screen.0.min(screen.1) < needed {
-        return Err(format!(
-            "the short side {} spans fewer than four {}-pixel transition cells",
-            screen.0.min(screen.1),
-            1 << k
-        ));
-    }
-    Ok(())
 }
 
 /// The seam metric: across every pair of neighbouring pixels with different LODs, how far the
@@ -352,6 +347,60 @@ mod tests {
         assert_eq!(expected_shaded_texels((3, 2), &lod, 2), vec![2, 2, 1]);
         // Clamped: LOD 2 counts at top level 1.
         assert_eq!(expected_shaded_texels((3, 2), &lod, 1), vec![2, 2]);
+    }
+
+    /// Shading linear in screen position, in [1, 2) over the tests' screens.
+    fn linear(p: [i64; 2]) -> [f32; 4] {
+        let (x, y) = (p[0] as f32, p[1] as f32);
+        [1.0 + 0.004 * x, 1.0 + 0.006 * y, 1.0 + 0.003 * x + 0.002 * y, 1.0]
+    }
+
+    #[test]
+    fn seam_free_reproduces_linear_shading_between_the_outermost_samples() {
+        let mut checked = 0;
+        for (seed, screen, top) in [(1, (37, 23), 3), (2, (64, 48), 4), (3, (13, 50), 2), (4, (100, 7), 5), (5, (1, 9), 2)]
+        {
+            let lod = super::super::lod_model::nested_random(screen, top, seed);
+            let lit = sampled_levels(screen, top, linear);
+            let inputs = CompositeInputs { screen, lod: &lod, lit: &lit };
+            for (i, pixel) in inputs.composite(CompositeMode::SeamFree).iter().enumerate() {
+                let p = [i as i64 % i64::from(screen.0), i as i64 / i64::from(screen.0)];
+                let triangle = inputs.seam_free_triangle(p).expect("nested levels always give a triangle");
+                // Flat corners only beyond the outermost samples, towards the screen's edges, or
+                // where the fragment spans the screen along an axis.
+                let beyond = (0..2).any(|axis| {
+                    let a = inputs.sample_of(p);
+                    let off = |direction| !inputs.on_screen(inputs.beyond_fragment(p, axis, direction));
+                    let toward = if p[axis] < a[axis] { -1 } else { 1 };
+                    (p[axis] != a[axis] && off(toward)) || (off(1) && off(-1))
+                });
+                assert!(!triangle.has_flat_corner() || beyond, "{screen:?} seed {seed} pixel {p:?}: {triangle:?}");
+                if triangle.has_flat_corner() {
+                    continue;
+                }
+                let want = linear(p);
+                for c in 0..3 {
+                    assert!((pixel[c] - want[c]).abs() <= 1e-5, "{screen:?} seed {seed} pixel {p:?}: {pixel:?} vs {want:?}");
+                }
+                checked += 1;
+            }
+        }
+        assert!(checked > 2500, "only {checked} of 5282 pixels lie between samples");
+    }
+
+    #[test]
+    fn four_neighbour_does_not_reproduce_linear_shading_across_levels() {
+        let screen = (64, 48);
+        let lod = super::super::lod_model::nested_random(screen, 4, 2);
+        let lit = sampled_levels(screen, 4, linear);
+        let inputs = CompositeInputs { screen, lod: &lod, lit: &lit };
+        let worst = inputs
+            .composite(CompositeMode::FourNeighbour)
+            .iter()
+            .enumerate()
+            .map(|(i, pixel)| (pixel[0] - linear([i as i64 % 64, i as i64 / 64])[0]).abs())
+            .fold(0.0f32, f32::max);
+        assert!(worst > 0.01, "worst departure {worst}");
     }
 
     #[test]

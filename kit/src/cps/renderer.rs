@@ -1,22 +1,21 @@
 //! The CPS frame: LOD buffer → LOD-present mask pyramid (one pass a level) → the stencil of
 //! every level, side by side in one atlas (one pass, one draw a level) → every level lit in one
-//! pass behind stencil Equal (one draw a level, its viewport the level's rect) → (fill pyramid)
-//! → composite. Targets and pipelines are made once per renderer; `render` records one frame in
+//! pass behind stencil Equal (one draw a level, its viewport the level's rect) → composite. Targets and pipelines are made once per renderer; `render` records one frame in
 //! one encoder with a timestamp pair around every pass and an occlusion query around every
 //! level's lighting draw.
 
 use anyhow::{Context, Result};
 use glam::Vec3;
 
-use super::config::{CompositeMode, CpsConfig, LodPolicy};
+use super::config::{CpsConfig, LodPolicy};
 use super::plan::Plan;
+use super::reference::Level;
 use super::targets::MipChain;
 use crate::deferred::gbuffer::Gbuffer;
 use crate::deferred::lighting::{HDR, shading_uniform};
 use crate::deferred::lights::LightTexture;
-use crate::fullscreen::{FullscreenPipeline, bind_group, bind_group_at, uniform_buffer};
+use crate::fullscreen::{FullscreenPipeline, bind_group, uniform_buffer};
 use crate::gpu::Gpu;
-use crate::probe::mip_fetch::LevelFetch;
 use crate::query::{GpuTimer, OcclusionQueries, PassTime};
 use crate::rects::stencil_state;
 use crate::shaders;
@@ -24,10 +23,6 @@ use crate::shaders;
 const LOD: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
 const MASK: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 const STENCIL: wgpu::TextureFormat = wgpu::TextureFormat::Stencil8;
-
-/// The seam-free composite's level field varies over blocks of 2^3 = 8 pixels (clamped to the
-/// plan's top level): wide enough to hide a level step, narrow enough to follow the LOD.
-pub const SEAM_FREE_TRANSITION_LEVEL: u32 = 3;
 
 /// One frame's inputs.
 pub struct CpsFrame<'a> {
@@ -87,31 +82,6 @@ fn begin<'e>(
     pass
 }
 
-/// Copies `extent` texels from mip `from.1` of `from.0` at `from.2` to the origin of mip `to.1` of
-/// `to.0`.
-fn copy_texels(
-    encoder: &mut wgpu::CommandEncoder,
-    from: (&wgpu::Texture, u32, (u32, u32)),
-    to: (&wgpu::Texture, u32),
-    (width, height): (u32, u32),
-) {
-    encoder.copy_texture_to_texture(
-        wgpu::TexelCopyTextureInfo {
-            texture: from.0,
-            mip_level: from.1,
-            origin: wgpu::Origin3d { x: from.2.0, y: from.2.1, z: 0 },
-            aspect: wgpu::TextureAspect::All,
-        },
-        wgpu::TexelCopyTextureInfo {
-            texture: to.0,
-            mip_level: to.1,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-    );
-}
-
 /// Limits drawing to one level's rect of an atlas: x, y, width, height.
 fn set_level_viewport(pass: &mut wgpu::RenderPass<'_>, (x, y, width, height): (u32, u32, u32, u32)) {
     pass.set_viewport(x as f32, y as f32, width as f32, height as f32, 0.0, 1.0);
@@ -132,10 +102,6 @@ pub struct CpsRenderer {
     pub stencil: Option<wgpu::Texture>,
     /// Every lit level, side by side; alpha 1 marks a shaded texel.
     pub lit: wgpu::Texture,
-    /// The lit levels as a mip chain, copied from the atlas for the fill pyramid (seam-free only).
-    lit_levels: Option<MipChain>,
-    /// Pull and push stages of the fill pyramid (seam-free composite only).
-    pub fill: Option<(MipChain, MipChain)>,
     /// The composite (`Rgba16Float`, screen-sized).
     pub image: wgpu::Texture,
     /// Indirect draw arguments of each level's lighting draw.
@@ -149,7 +115,6 @@ pub struct CpsRenderer {
     /// Stencil marks of every level, from the finished mask pyramid.
     mark_pipeline: Option<wgpu::RenderPipeline>,
     light_pipeline: wgpu::RenderPipeline,
-    fill_pipelines: Option<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
     composite_pipeline: wgpu::RenderPipeline,
 }
 
@@ -160,9 +125,6 @@ impl CpsRenderer {
         let atlas = &plan.atlas;
         let lod = gpu.texture("lod", screen, LOD, 1, target_usage() | wgpu::TextureUsages::COPY_DST);
         let chain = |label, format| MipChain::new(gpu, label, plan.padded, levels, format, target_usage());
-        // The fill pyramid's chains are written by copies too (lit levels in, its ends).
-        let fill_chain =
-            |label| MipChain::new(gpu, label, plan.padded, levels, HDR, target_usage() | wgpu::TextureUsages::COPY_DST);
         let fullscreen = |label: &'static str,
                           fragment,
                           entry_point: &'static str,
@@ -208,12 +170,6 @@ impl CpsRenderer {
             }
             .create(gpu)
         });
-        let fill_pipelines = plan.fill_pyramid.then(|| {
-            (
-                fullscreen("fill pull", shaders::CPS_FILL_PULL, "fs_fill_pull", Some(HDR), None),
-                fullscreen("fill push", shaders::CPS_FILL_PUSH, "fs_fill_push", Some(HDR), None),
-            )
-        });
         let level_draws = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("level draws"),
             size: 16 * 9,
@@ -230,8 +186,6 @@ impl CpsRenderer {
             mask: chain("lod-present pyramid", MASK),
             stencil: plan.stencil_pyramid.then(|| gpu.texture("stencil atlas", atlas.size, STENCIL, 1, target_usage())),
             lit: gpu.texture("lit atlas", atlas.size, HDR, 1, target_usage()),
-            lit_levels: plan.fill_pyramid.then(|| fill_chain("lit levels")),
-            fill: plan.fill_pyramid.then(|| (fill_chain("fill pull"), fill_chain("fill push"))),
             image: gpu.texture("cps composite", screen, HDR, 1, target_usage()),
             level_draws,
             level_uniforms: (0..levels as usize)
@@ -259,7 +213,6 @@ impl CpsRenderer {
                 plan.stencil_pyramid
                     .then(|| stencil_state(STENCIL, wgpu::CompareFunction::Equal, wgpu::StencilOperation::Keep)),
             ),
-            fill_pipelines,
             composite_pipeline: FullscreenPipeline {
                 label: "composite",
                 fragment: shaders::CPS_COMPOSITE,
@@ -268,10 +221,7 @@ impl CpsRenderer {
                 depth_stencil: None,
                 samples: 1,
             }
-            .create_with_constants(
-                gpu,
-                &[("LOOP_COUNTER_FETCH", f64::from(plan.level_fetch == LevelFetch::LoopCounter))],
-            ),
+            .create(gpu),
             config,
             plan,
         })
@@ -306,13 +256,52 @@ impl CpsRenderer {
         self.record_lod(gpu, &mut encoder, frame, &mut timer);
         self.record_stencil_pyramid(gpu, &mut encoder, &mut timer);
         self.record_lighting(gpu, &mut encoder, frame, &mut timer, &queries);
-        self.record_fill(gpu, &mut encoder, &mut timer);
         self.record_composite(gpu, &mut encoder, &mut timer);
         queries.resolve(&mut encoder);
         timer.resolve(&mut encoder);
         gpu.submit(encoder);
         let shaded_texels = queries.read(gpu).context("reading per-level shaded counts")?;
         Ok(CpsOutput { shaded_texels, pass_times: timer.read(gpu)? })
+    }
+
+    /// Composites `levels` (0..=top, each holding its level's extent) in place of what `render`
+    /// lit, over the LOD buffer the last `render` left: the composite alone, fed with shading
+    /// whose exact reconstruction a case knows (`cps.composite.linear_precision`).
+    pub fn composite_levels(&self, gpu: &Gpu, levels: &[Level]) -> Result<()> {
+        anyhow::ensure!(
+            levels.len() == self.plan.levels() as usize,
+            "{} levels given, the plan has {}",
+            levels.len(),
+            self.plan.levels()
+        );
+        for (level, given) in levels.iter().enumerate() {
+            let (x, y, width, height) = self.plan.atlas.rect(level);
+            anyhow::ensure!(
+                given.extent == (width, height) && given.texels.len() == (width * height) as usize,
+                "level {level} is {:?} with {} texels; the plan's is {width}x{height}",
+                given.extent,
+                given.texels.len()
+            );
+            let halves: Vec<u16> =
+                given.texels.iter().flatten().map(|&value| half::f16::from_f32(value).to_bits()).collect();
+            gpu.queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &self.lit,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d { x, y, z: 0 },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                bytemuck::cast_slice(&halves),
+                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(width * 8), rows_per_image: None },
+                wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            );
+        }
+        let mut timer = GpuTimer::new(gpu, 1);
+        let mut encoder = gpu.encoder("cps composite");
+        self.record_composite(gpu, &mut encoder, &mut timer);
+        timer.resolve(&mut encoder);
+        gpu.submit(encoder);
+        timer.read(gpu).map(drop)
     }
 
     /// Reduces the edge pyramid from mip 1 to the top: texel q ORs its 2×2 children.
@@ -506,99 +495,21 @@ impl CpsRenderer {
         }
     }
 
-    fn record_fill(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
-        let (Some((pulled, filled)), Some((pull, push)), Some(lit_levels)) =
-            (&self.fill, &self.fill_pipelines, &self.lit_levels)
-        else {
-            return;
-        };
-        let top = self.plan.top_level;
-        // The pull stage starts from lit level 0 and reads the coarser lit levels as mips.
-        copy_texels(
-            encoder,
-            (&self.lit, 0, self.plan.atlas.origins[0]),
-            (&pulled.texture, 0),
-            self.plan.level_extents[0],
-        );
-        for level in 1..=top as usize {
-            let from = (&self.lit, 0, self.plan.atlas.origins[level]);
-            copy_texels(encoder, from, (&lit_levels.texture, level as u32), self.plan.level_extents[level]);
-        }
-        for level in 1..=top as usize {
-            let group = bind_group(
-                gpu,
-                "fill pull",
-                pull,
-                0,
-                &[
-                    wgpu::BindingResource::TextureView(&lit_levels.level_views[level]),
-                    wgpu::BindingResource::TextureView(&pulled.level_views[level - 1]),
-                ],
-            );
-            let targets = PassTargets {
-                colour: Some(&pulled.level_views[level]),
-                stencil: None,
-                viewport: self.plan.level_extents[level],
-            };
-            let mut pass = begin(encoder, &format!("pull {level}"), targets, timer, None);
-            pass.set_pipeline(pull);
-            pass.set_bind_group(0, &group, &[]);
-            pass.draw(0..3, 0..1);
-        }
-        copy_texels(
-            encoder,
-            (&pulled.texture, top, (0, 0)),
-            (&filled.texture, top),
-            self.plan.level_extents[top as usize],
-        );
-        for level in (0..top as usize).rev() {
-            let (w, h) = self.plan.level_extents[level + 1];
-            let extent = uniform_buffer(gpu, "coarser extent", bytemuck::cast_slice(&[w - 1, h - 1, 0, 0]));
-            let group = bind_group(
-                gpu,
-                "fill push",
-                push,
-                0,
-                &[
-                    wgpu::BindingResource::TextureView(&pulled.level_views[level]),
-                    wgpu::BindingResource::TextureView(&filled.level_views[level + 1]),
-                    extent.as_entire_binding(),
-                ],
-            );
-            let targets = PassTargets {
-                colour: Some(&filled.level_views[level]),
-                stencil: None,
-                viewport: self.plan.level_extents[level],
-            };
-            let mut pass = begin(encoder, &format!("push {level}"), targets, timer, None);
-            pass.set_pipeline(push);
-            pass.set_bind_group(0, &group, &[]);
-            pass.draw(0..3, 0..1);
-        }
-    }
-
     fn record_composite(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
         let (w, h) = self.plan.screen;
-        let transition = SEAM_FREE_TRANSITION_LEVEL.min(self.plan.top_level);
-        let mut words = vec![self.plan.top_level, transition, w, h];
+        let mut words = vec![self.plan.top_level, 0, w, h];
         for level in 0..9 {
             let (x, y) = self.plan.atlas.origins.get(level).copied().unwrap_or_default();
             words.extend([x, y, 0, 0]);
         }
         let uniform = uniform_buffer(gpu, "composite", bytemuck::cast_slice(&words));
         let lit = self.lit.create_view(&Default::default());
-        let mut resources = vec![(0, uniform.as_entire_binding())];
-        match (self.config.composite, &self.fill) {
-            (CompositeMode::SeamFree, Some((_, filled))) => {
-                resources.push((3, wgpu::BindingResource::TextureView(&filled.all)));
-                resources.push((4, wgpu::BindingResource::TextureView(&self.mask.all)));
-            }
-            _ => {
-                resources.push((1, wgpu::BindingResource::TextureView(&self.lod_view)));
-                resources.push((2, wgpu::BindingResource::TextureView(&lit)));
-            }
-        }
-        let group = bind_group_at(gpu, "composite", &self.composite_pipeline, 0, &resources);
+        let resources = [
+            uniform.as_entire_binding(),
+            wgpu::BindingResource::TextureView(&self.lod_view),
+            wgpu::BindingResource::TextureView(&lit),
+        ];
+        let group = bind_group(gpu, "composite", &self.composite_pipeline, 0, &resources);
         let view = self.image.create_view(&Default::default());
         let targets = PassTargets { colour: Some(&view), stencil: None, viewport: self.plan.screen };
         let mut pass = begin(encoder, "composite", targets, timer, None);

@@ -2,12 +2,11 @@
 //! pixel's own level — what the CPS composite does. A labelled mip chain (mip l texel t holds
 //! its level and coordinates) is fetched with seeded level maps that vary per pixel, per 2×2
 //! quad, per 4×4 and per 8×8 block, each with the level straight from the map ("varying") and
-//! with the level as a loop counter ("uniform" across lanes). The CPS renderer takes the direct
-//! fetch where it is exact here and the loop-counter fetch otherwise ([`LevelFetch::for_adapter`]);
-//! `kit.fetch.per_pixel_level` reports the measurement.
+//! with the level as a loop counter ("uniform" across lanes). `kit.fetch.per_pixel_level` reports
+//! the measurement; the CPS composite does not depend on it (its levels are one atlas, read at a
+//! per-pixel offset).
 
 use anyhow::Result;
-use serde::Serialize;
 
 use crate::cps::targets::MipChain;
 use crate::fullscreen::{FullscreenPipeline, bind_group};
@@ -23,46 +22,10 @@ pub const BLOCKS: [u32; 4] = [1, 2, 4, 8];
 pub const WAYS: [(&str, &str); 2] = [("varying", "fs_fetch_varying_level"), ("uniform", "fs_fetch_uniform_level")];
 /// Set in every texel, so that 0 means "read no texel" (out-of-bounds reads return 0).
 pub const PRESENT: u32 = 1 << 31;
-/// The size and seed the renderer's choice is measured at.
-const CHOICE_SIZE: (u32, u32) = (64, 64);
-const CHOICE_SEED: u32 = 1;
 
 /// What mip `level` holds at texel `t`: the level and the texel, so a wrong fetch says what it read.
 pub fn texel_value(level: u32, t: (u32, u32)) -> u32 {
     PRESENT | (level << 24) | (t.1 << 12) | t.0
-}
-
-/// How a shader reads a texel at a level chosen per pixel.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum LevelFetch {
-    /// `textureLoad(texture, texel, level)` with the pixel's level.
-    Direct,
-    /// A loop over the levels fetching where the counter equals the pixel's level: the level
-    /// of every fetch is uniform across lanes. Slower (lavapipe: 1.1 → 3.7 ms for the CPS
-    /// composite at 640×360); only where the direct fetch is wrong.
-    LoopCounter,
-}
-
-impl LevelFetch {
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Direct => "direct",
-            Self::LoopCounter => "loop_counter",
-        }
-    }
-
-    /// The direct fetch where this adapter's per-pixel-level fetches all read their own level,
-    /// the loop counter otherwise. Measured once per device.
-    pub fn for_adapter(gpu: &Gpu) -> Result<Self> {
-        if let Some(known) = gpu.level_fetch.get() {
-            return Ok(*known);
-        }
-        let direct_exact =
-            measure(gpu, CHOICE_SIZE, CHOICE_SEED)?.iter().filter(|m| m.way == "varying").all(|m| m.wrong().is_empty());
-        let choice = if direct_exact { Self::Direct } else { Self::LoopCounter };
-        Ok(*gpu.level_fetch.get_or_init(|| choice))
-    }
 }
 
 /// One level map fetched one way.
