@@ -30,6 +30,8 @@ pub const ALL: &[Case] = &[
     cps::level_lighting::CASE,
     cps::all_fine_equals_fullres::CASE,
     cps::composite_matches_reference::CASE,
+    cps::composite_linear_precision::CASE,
+    cps::composite_seam_free_sweep::CASE,
     cps::early_rejection::CASE,
     cps::extremes::CASE,
     texarray::index_exactness::CASE,

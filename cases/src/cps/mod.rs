@@ -1,7 +1,9 @@
 //! `cps.*`: coarse pixel shading through a stencil pyramid.
 
 pub mod all_fine_equals_fullres;
+pub mod composite_linear_precision;
 pub mod composite_matches_reference;
+pub mod composite_seam_free_sweep;
 pub mod early_rejection;
 pub mod extremes;
 pub mod level_lighting;

@@ -1,7 +1,7 @@
 //! Coarse pixel shading through a stencil pyramid: an LOD buffer beside the G-buffer, a stencil
-//! per level built from an OR-reduced "LOD-present" bitmask pyramid, per-level lighting of a
-//! mipmapped target behind a stencil-Equal test, and a composite (nearest, the original
-//! 4-neighbour interpolation, or our seam-free reconstruction).
+//! per level built from an OR-reduced "LOD-present" bitmask pyramid, every level lit into one
+//! atlas behind a stencil-Equal test, and a composite (nearest, the original 4-neighbour
+//! interpolation, or our seam-free one, linear over the shading samples where they were lit).
 
 pub mod atlas;
 pub mod config;

@@ -185,7 +185,8 @@ impl CpsRenderer {
             edges: plan.edge_pyramid.then(|| chain("edge pyramid", MASK)),
             mask: chain("lod-present pyramid", MASK),
             stencil: plan.stencil_pyramid.then(|| gpu.texture("stencil atlas", atlas.size, STENCIL, 1, target_usage())),
-            lit: gpu.texture("lit atlas", atlas.size, HDR, 1, target_usage()),
+            // Written by copies too: a case composites known shading (`composite_levels`).
+            lit: gpu.texture("lit atlas", atlas.size, HDR, 1, target_usage() | wgpu::TextureUsages::COPY_DST),
             image: gpu.texture("cps composite", screen, HDR, 1, target_usage()),
             level_draws,
             level_uniforms: (0..levels as usize)

@@ -71,15 +71,91 @@ fn texels_of(values: &[f32]) -> Vec<[f32; 4]> {
     values.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect()
 }
 
+/// Full resolution's image for the sweep's scene with `lights`: displayed, and its HDR texels.
+pub struct SweepReference {
+    pub inputs: DeferredInputs,
+    pub shown: image::RgbaImage,
+    pub texels: Vec<[f32; 4]>,
+}
+
+impl SweepReference {
+    fn new(gpu: &Gpu, sweep: &CpsSweep, lights: u32, fullres: &FullResolution, timer: &mut GpuTimer) -> Result<Self> {
+        let inputs = DeferredInputs::new(gpu, &corridor(sweep.seed, lights), sweep.size)?;
+        fullres.render(gpu, &inputs, timer)?;
+        let hdr = read_texture(gpu, &fullres.target, wgpu::TextureAspect::All, 0)?.as_f16();
+        Ok(Self { inputs, shown: to_display(sweep.size.0, sweep.size.1, &hdr)?, texels: texels_of(&hdr) })
+    }
+}
+
+/// A rendered composite's error against full resolution.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Quality {
+    pub psnr_db: f64,
+    pub flip: f64,
+    /// Colour steps across level boundaries against full resolution's (see `seam_error`).
+    pub seam_error: f64,
+}
+
+fn quality(gpu: &Gpu, renderer: &CpsRenderer, reference: &SweepReference) -> Result<Quality> {
+    let screen = renderer.plan.screen;
+    let hdr = renderer.read_image(gpu)?;
+    let shown = to_display(screen.0, screen.1, &hdr)?;
+    let (difference, _) = compare(&shown, &reference.shown, 0)?;
+    let lod = renderer.read_lod(gpu)?;
+    Ok(Quality {
+        psnr_db: difference.psnr_db,
+        flip: f64::from(flip_mean(&shown, &reference.shown)?),
+        seam_error: seam_error(screen, &lod, &texels_of(&hdr), &reference.texels),
+    })
+}
+
+/// One composite's quality on one configuration of the sweep.
+#[derive(Clone, Debug)]
+pub struct CompositeQuality {
+    pub policy: String,
+    pub max_level: u32,
+    pub lights: u32,
+    pub composite: CompositeMode,
+    pub quality: Quality,
+}
+
+/// The quality of each of `composites` on every light count × policy × top level of `sweep`
+/// (untimed): what `cps.composite.seam_free_sweep` checks over the report's own sweep.
+pub fn composite_quality(gpu: &Gpu, sweep: &CpsSweep, composites: &[CompositeMode]) -> Result<Vec<CompositeQuality>> {
+    let fullres = FullResolution::new(gpu, sweep.size);
+    let mut rows = Vec::new();
+    for &lights in &sweep.light_counts {
+        let reference = SweepReference::new(gpu, sweep, lights, &fullres, &mut GpuTimer::new(gpu, 1))?;
+        let frame =
+            CpsFrame { gbuffer: &reference.inputs.gbuffer, lights: &reference.inputs.lights, eye: reference.inputs.eye };
+        for policy in &sweep.policies {
+            for &max_level in &sweep.max_levels {
+                for &composite in composites {
+                    let renderer = CpsRenderer::new(gpu, sweep.size, CpsConfig::new(max_level, policy.clone(), composite))?;
+                    renderer.render(gpu, &frame)?;
+                    rows.push(CompositeQuality {
+                        policy: policy.name().into(),
+                        max_level,
+                        lights,
+                        composite,
+                        quality: quality(gpu, &renderer, &reference)?,
+                    });
+                }
+            }
+        }
+    }
+    Ok(rows)
+}
+
 /// Renders one CPS configuration `repeats` times after a warm-up; its row.
 fn measure_cps(
     gpu: &Gpu,
     sweep: &CpsSweep,
     config: CpsConfig,
-    inputs: &DeferredInputs,
-    reference: (&image::RgbaImage, &[[f32; 4]]),
+    reference: &SweepReference,
     lights: u32,
 ) -> Result<CpsReportRow> {
+    let inputs = &reference.inputs;
     let frame = CpsFrame { gbuffer: &inputs.gbuffer, lights: &inputs.lights, eye: inputs.eye };
     let renderer = CpsRenderer::new(gpu, sweep.size, config.clone())?;
     renderer.render(gpu, &frame)?;
@@ -92,10 +168,7 @@ fn measure_cps(
         pyramid_times.push(output.gpu_ms("pyramid"));
         shaded = output.shaded_texels.iter().sum();
     }
-    let hdr = renderer.read_image(gpu)?;
-    let shown = to_display(sweep.size.0, sweep.size.1, &hdr)?;
-    let (difference, _) = compare(&shown, reference.0, 0)?;
-    let lod = renderer.read_lod(gpu)?;
+    let quality = quality(gpu, &renderer, reference)?;
     Ok(CpsReportRow {
         method: if config.shade_every_texel { "naive" } else { "cps" }.into(),
         policy: config.policy.name().into(),
@@ -104,9 +177,9 @@ fn measure_cps(
         composite: config.composite.name().into(),
         gpu_ms: median(times),
         pyramid_ms: median(pyramid_times),
-        psnr_db: difference.psnr_db,
-        flip: f64::from(flip_mean(&shown, reference.0)?),
-        seam_error: seam_error(sweep.size, &lod, &texels_of(&hdr), reference.1),
+        psnr_db: quality.psnr_db,
+        flip: quality.flip,
+        seam_error: quality.seam_error,
         shaded_texels: shaded,
     })
 }
@@ -114,21 +187,16 @@ fn measure_cps(
 /// Runs the sweep; one row per configuration, full resolution first for each light count.
 pub fn run_sweep(gpu: &Gpu, sweep: &CpsSweep, mut progress: impl FnMut(&CpsReportRow)) -> Result<Vec<CpsReportRow>> {
     let mut rows = Vec::new();
+    let fullres = FullResolution::new(gpu, sweep.size);
     for &lights in &sweep.light_counts {
-        let inputs = DeferredInputs::new(gpu, &corridor(sweep.seed, lights), sweep.size)?;
-        let fullres = FullResolution::new(gpu, sweep.size);
+        // One untimed warm-up (which also makes the reference), then the repeats.
+        let reference = SweepReference::new(gpu, sweep, lights, &fullres, &mut GpuTimer::new(gpu, 1))?;
         let mut times = Vec::new();
-        // One untimed warm-up, then the repeats.
-        for repeat in 0..=sweep.repeats.max(1) {
+        for _ in 0..sweep.repeats.max(1) {
             let mut timer = GpuTimer::new(gpu, 1);
-            fullres.render(gpu, &inputs, &mut timer)?;
-            let ms = timer.read(gpu)?.iter().map(|t| t.ms).sum::<f64>();
-            if repeat > 0 {
-                times.push(ms);
-            }
+            fullres.render(gpu, &reference.inputs, &mut timer)?;
+            times.push(timer.read(gpu)?.iter().map(|t| t.ms).sum::<f64>());
         }
-        let hdr = read_texture(gpu, &fullres.target, wgpu::TextureAspect::All, 0)?.as_f16();
-        let reference = (to_display(sweep.size.0, sweep.size.1, &hdr)?, texels_of(&hdr));
         let row = CpsReportRow {
             method: "fullres".into(),
             policy: "-".into(),
@@ -151,7 +219,7 @@ pub fn run_sweep(gpu: &Gpu, sweep: &CpsSweep, mut progress: impl FnMut(&CpsRepor
                     .map(|mode| CpsConfig::new(max_level, policy.clone(), mode))
                     .chain(std::iter::once(CpsConfig::new(max_level, policy.clone(), CompositeMode::Nearest).naive()));
                 for config in configs {
-                    let row = measure_cps(gpu, sweep, config, &inputs, (&reference.0, &reference.1), lights)?;
+                    let row = measure_cps(gpu, sweep, config, &reference, lights)?;
                     progress(&row);
                     rows.push(row);
                 }
