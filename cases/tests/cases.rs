@@ -74,6 +74,8 @@ case_tests! {
     cps_level_lighting => "cps.level_lighting",
     cps_all_fine_equals_fullres => "cps.all_fine_equals_fullres",
     cps_composite_matches_reference => "cps.composite.matches_reference",
+    cps_composite_linear_precision => "cps.composite.linear_precision",
+    cps_composite_seam_free_sweep => "cps.composite.seam_free_sweep",
     cps_early_rejection => "cps.early_rejection",
     cps_extremes => "cps.extremes",
     texarray_index_exactness => "texarray.index_exactness",
