@@ -32,8 +32,9 @@ fn coarse_colour(pixel: vec2i) -> vec4f {
 // The pixel just outside the coarse fragment holding `pixel`, along `axis` (0 = x, 1 = y), on the
 // side of `direction` (-1 or +1).
 fn beyond_fragment(pixel: vec2i, axis: u32, direction: i32) -> vec2i {
-    let size = 1 << level_of(pixel);
-    let origin = (pixel >> vec2u(level_of(pixel))) << vec2u(level_of(pixel));
+    let level = level_of(pixel);
+    let size = 1 << level;
+    let origin = (pixel >> vec2u(level)) << vec2u(level);
     var neighbour = pixel;
     neighbour[axis] = select(origin[axis] + size, origin[axis] - 1, direction < 0);
     return neighbour;
