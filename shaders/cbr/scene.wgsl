@@ -94,6 +94,12 @@ fn shade(in: SceneVarying, albedo: vec4f) -> vec3f {
     return shade_checkerboard_sample(vec4f(normalize(in.normal), in.shininess), albedo, in.world, view.eye, lights, view.light_count);
 }
 
+// The forward path's depth pass: depth only (the colour target's write mask is empty).
+@fragment
+fn fs_depth_only() -> @location(0) vec4f {
+    return vec4f(0.0);
+}
+
 @fragment
 fn fs_forward(in: SceneVarying) -> @location(0) vec4f {
     return vec4f(shade(in, material_albedo(in)), 1.0);

@@ -93,6 +93,9 @@ const OBJECT_BYTES: u64 = 128;
 pub struct ScenePipelines {
     layout: wgpu::BindGroupLayout,
     pub samples: u32,
+    /// Forward opaque draws lay their depth first (no colour), so that the shading draw, depth
+    /// Equal, shades each pixel's visible surface once rather than every surface drawn over it.
+    forward_depth: wgpu::RenderPipeline,
     forward: wgpu::RenderPipeline,
     transparent: wgpu::RenderPipeline,
     gbuffer: wgpu::RenderPipeline,
@@ -201,8 +204,17 @@ impl ScenePipelines {
         };
         let back = Some(wgpu::Face::Back);
         let less = wgpu::CompareFunction::Less;
+        let depth_only =
+            [Some(wgpu::ColorTargetState { format: HDR, blend: None, write_mask: wgpu::ColorWrites::empty() })];
         Self {
-            forward: create("scene forward", "fs_forward", &[Some(HDR.into())], (true, less), back),
+            forward_depth: create("scene forward depth", "fs_depth_only", &depth_only, (true, less), back),
+            forward: create(
+                "scene forward",
+                "fs_forward",
+                &[Some(HDR.into())],
+                (false, wgpu::CompareFunction::Equal),
+                back,
+            ),
             transparent: create(
                 "scene transparent",
                 "fs_transparent",
@@ -394,7 +406,14 @@ impl SceneResources {
         set: DrawSet,
         view: usize,
     ) {
-        pass.set_pipeline(pipelines.pipeline(kind, set));
+        if (kind, set) == (ScenePassKind::Forward, DrawSet::Opaque) {
+            self.draw_with(pass, &pipelines.forward_depth, set, view);
+        }
+        self.draw_with(pass, pipelines.pipeline(kind, set), set, view);
+    }
+
+    fn draw_with(&self, pass: &mut wgpu::RenderPass<'_>, pipeline: &wgpu::RenderPipeline, set: DrawSet, view: usize) {
+        pass.set_pipeline(pipeline);
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         for (slot, (range, draw_set)) in self.draws.iter().enumerate() {
             let drawn = match set {
