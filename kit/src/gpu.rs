@@ -193,14 +193,7 @@ impl Gpu {
             .features()
             .contains(wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
             .then(|| Mutex::new(EncoderClock::new(&device, &queue)));
-        Ok(Self {
-            description: AdapterDescription::of(&info),
-            adapter,
-            device,
-            queue,
-            clock,
-            lost,
-        })
+        Ok(Self { description: AdapterDescription::of(&info), adapter, device, queue, clock, lost })
     }
 
     /// Why the device was lost, or None while it works. Polls first, so that a loss the driver

@@ -50,7 +50,10 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             ));
         }
         if ours.quality.flip > original.quality.flip {
-            losses.push(format!("{configuration}: FLIP {:.5} above 4-neighbour's {:.5}", ours.quality.flip, original.quality.flip));
+            losses.push(format!(
+                "{configuration}: FLIP {:.5} above 4-neighbour's {:.5}",
+                ours.quality.flip, original.quality.flip
+            ));
         }
     }
     ctx.metric("rows", rows.len() / CompositeMode::ALL.len());

@@ -358,7 +358,8 @@ mod tests {
     #[test]
     fn seam_free_reproduces_linear_shading_between_the_outermost_samples() {
         let mut checked = 0;
-        for (seed, screen, top) in [(1, (37, 23), 3), (2, (64, 48), 4), (3, (13, 50), 2), (4, (100, 7), 5), (5, (1, 9), 2)]
+        for (seed, screen, top) in
+            [(1, (37, 23), 3), (2, (64, 48), 4), (3, (13, 50), 2), (4, (100, 7), 5), (5, (1, 9), 2)]
         {
             let lod = super::super::lod_model::nested_random(screen, top, seed);
             let lit = sampled_levels(screen, top, linear);
@@ -380,7 +381,10 @@ mod tests {
                 }
                 let want = linear(p);
                 for c in 0..3 {
-                    assert!((pixel[c] - want[c]).abs() <= 1e-5, "{screen:?} seed {seed} pixel {p:?}: {pixel:?} vs {want:?}");
+                    assert!(
+                        (pixel[c] - want[c]).abs() <= 1e-5,
+                        "{screen:?} seed {seed} pixel {p:?}: {pixel:?} vs {want:?}"
+                    );
                 }
                 checked += 1;
             }

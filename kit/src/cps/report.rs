@@ -128,12 +128,16 @@ pub fn composite_quality(gpu: &Gpu, sweep: &CpsSweep, composites: &[CompositeMod
     let mut rows = Vec::new();
     for &lights in &sweep.light_counts {
         let reference = SweepReference::new(gpu, sweep, lights, &fullres, &mut GpuTimer::new(gpu, 1))?;
-        let frame =
-            CpsFrame { gbuffer: &reference.inputs.gbuffer, lights: &reference.inputs.lights, eye: reference.inputs.eye };
+        let frame = CpsFrame {
+            gbuffer: &reference.inputs.gbuffer,
+            lights: &reference.inputs.lights,
+            eye: reference.inputs.eye,
+        };
         for policy in &sweep.policies {
             for &max_level in &sweep.max_levels {
                 for &composite in composites {
-                    let renderer = CpsRenderer::new(gpu, sweep.size, CpsConfig::new(max_level, policy.clone(), composite))?;
+                    let renderer =
+                        CpsRenderer::new(gpu, sweep.size, CpsConfig::new(max_level, policy.clone(), composite))?;
                     renderer.render(gpu, &frame)?;
                     rows.push(CompositeQuality {
                         policy: policy.name().into(),
