@@ -361,7 +361,7 @@ mod tests {
         for (seed, screen, top) in
             [(1, (37, 23), 3), (2, (64, 48), 4), (3, (13, 50), 2), (4, (100, 7), 5), (5, (1, 9), 2)]
         {
-            let lod = super::super::lod_model::nested_random(screen, top, seed);
+            let lod = crate::cps::lod_model::nested_random(screen, top, seed);
             let lit = sampled_levels(screen, top, linear);
             let inputs = CompositeInputs { screen, lod: &lod, lit: &lit };
             for (i, pixel) in inputs.composite(CompositeMode::SeamFree).iter().enumerate() {
@@ -395,7 +395,7 @@ mod tests {
     #[test]
     fn four_neighbour_does_not_reproduce_linear_shading_across_levels() {
         let screen = (64, 48);
-        let lod = super::super::lod_model::nested_random(screen, 4, 2);
+        let lod = crate::cps::lod_model::nested_random(screen, 4, 2);
         let lit = sampled_levels(screen, 4, linear);
         let inputs = CompositeInputs { screen, lod: &lod, lit: &lit };
         let worst = inputs
