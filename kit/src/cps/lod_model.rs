@@ -1,7 +1,7 @@
 //! CPU models of the LOD policies' definitions (see [`LodPolicy`]), fed with the scene's inputs
 //! (screen, focus, radius; for the content policy the read-back G-buffer and the eye): the
-//! independent expectation of `shaders/cps/lod_foveated.wgsl` and of `edge_mask.wgsl` +
-//! `lod_content.wgsl`.
+//! independent expectation of `shaders/cps/lod.wgsl` (its foveated and content levels) and
+//! `edge_mask.wgsl`.
 //!
 //! A pixel whose level hangs on a comparison closer than the GPU's f32 arithmetic can decide is
 //! *ambiguous*: the models say so rather than guess, and the cases skip and count those pixels.

@@ -29,7 +29,8 @@ fn level_colour(level: u8) -> Rgba<u8> {
 impl CpsRenderer {
     /// The LOD per pixel as read back.
     pub fn read_lod(&self, gpu: &Gpu) -> Result<Vec<u8>> {
-        Ok(read_texture(gpu, &self.lod, wgpu::TextureAspect::All, 0)?.bytes)
+        let (width, height) = self.plan.screen;
+        Ok(read_texture(gpu, &self.lod, wgpu::TextureAspect::All, 0)?.region(0, 0, width, height).bytes)
     }
 
     /// Level `level` of the lit pyramid (data region only), RGBA f32 per texel.

@@ -1,4 +1,5 @@
-//! The CPS frame: LOD buffer → LOD-present mask pyramid (one pass a level) → the stencil of
+//! The CPS frame: LOD buffer and level 0 of the LOD-present mask (one pass) → the mask's
+//! coarser levels (one pass a level) → the stencil of
 //! every level, side by side in one atlas (one pass, one draw a level) → every level lit in one
 //! pass behind stencil Equal (one draw a level, its viewport the level's rect) → composite. Targets and pipelines are made once per renderer; `render` records one frame in
 //! one encoder with a timestamp pair around every pass and an occlusion query around every
@@ -14,7 +15,7 @@ use super::targets::MipChain;
 use crate::deferred::gbuffer::Gbuffer;
 use crate::deferred::lighting::{HDR, shading_uniform};
 use crate::deferred::lights::LightTexture;
-use crate::fullscreen::{FullscreenPipeline, bind_group, uniform_buffer};
+use crate::fullscreen::{FullscreenPipeline, bind_group, bind_group_at, uniform_buffer};
 use crate::gpu::Gpu;
 use crate::query::{GpuTimer, OcclusionQueries, PassTime};
 use crate::rects::stencil_state;
@@ -52,7 +53,7 @@ fn target_usage() -> wgpu::TextureUsages {
 
 /// Colour and stencil attachments of one pass; `viewport` limits drawing to the texels in use.
 struct PassTargets<'a> {
-    colour: Option<&'a wgpu::TextureView>,
+    colours: &'a [&'a wgpu::TextureView],
     stencil: Option<(&'a wgpu::TextureView, wgpu::LoadOp<u32>)>,
     viewport: (u32, u32),
 }
@@ -64,11 +65,14 @@ fn begin<'e>(
     timer: &mut GpuTimer,
     queries: Option<&wgpu::QuerySet>,
 ) -> wgpu::RenderPass<'e> {
-    let colour =
-        targets.colour.map(|view| crate::attachments::colour(view, None, wgpu::Color::TRANSPARENT)).unwrap_or(None);
+    let colours: Vec<_> = targets
+        .colours
+        .iter()
+        .map(|view| crate::attachments::colour(view, None, wgpu::Color::TRANSPARENT))
+        .collect();
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
-        color_attachments: &[colour],
+        color_attachments: &colours,
         depth_stencil_attachment: targets.stencil.map(|(view, load)| wgpu::RenderPassDepthStencilAttachment {
             view,
             depth_ops: None,
@@ -91,7 +95,8 @@ fn set_level_viewport(pass: &mut wgpu::RenderPass<'_>, (x, y, width, height): (u
 pub struct CpsRenderer {
     pub config: CpsConfig,
     pub plan: Plan,
-    /// LOD per pixel (`R8Uint`, screen-sized).
+    /// LOD per pixel (`R8Uint`; the screen's pixels of a texture as large as the mask pyramid's
+    /// base, which the LOD pass writes beside it).
     pub lod: wgpu::Texture,
     lod_view: wgpu::TextureView,
     /// OR-reduced edge flags (content policy only).
@@ -107,10 +112,11 @@ pub struct CpsRenderer {
     /// Indirect draw arguments of each level's lighting draw.
     pub(crate) level_draws: wgpu::Buffer,
     level_uniforms: Vec<wgpu::Buffer>,
-    lod_pipeline: Option<wgpu::RenderPipeline>,
+    /// The LOD buffer and mask level 0 from the policy, or (the caller's own LOD) mask level 0
+    /// from the LOD buffer.
+    lod_pipeline: wgpu::RenderPipeline,
     /// Edge detection and the edge pyramid's reduction (content policy only).
     edge_pipelines: Option<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
-    present_pipeline: wgpu::RenderPipeline,
     mask_reduce_pipeline: wgpu::RenderPipeline,
     /// Stencil marks of every level, from the finished mask pyramid.
     mark_pipeline: Option<wgpu::RenderPipeline>,
@@ -123,11 +129,11 @@ impl CpsRenderer {
         let plan = Plan::new(gpu, screen, &config)?;
         let levels = plan.levels();
         let atlas = &plan.atlas;
-        let lod = gpu.texture("lod", screen, LOD, 1, target_usage() | wgpu::TextureUsages::COPY_DST);
+        let lod = gpu.texture("lod", plan.padded, LOD, 1, target_usage() | wgpu::TextureUsages::COPY_DST);
         let chain = |label, format| MipChain::new(gpu, label, plan.padded, levels, format, target_usage());
         let fullscreen = |label: &'static str,
                           fragment,
-                          entry_point: &'static str,
+                          entry_point: &str,
                           format: Option<wgpu::TextureFormat>,
                           depth_stencil| {
             FullscreenPipeline {
@@ -140,27 +146,37 @@ impl CpsRenderer {
             }
             .create(gpu)
         };
+        let counted = if plan.skip_absent_levels_on_gpu { "_counted" } else { "" };
+        let lod_and_mask = |label, policy: &str| FullscreenPipeline {
+            label,
+            fragment: shaders::CPS_LOD,
+            entry_point: &format!("fs_lod_{policy}{counted}"),
+            targets: &[Some(LOD.into()), Some(MASK.into())],
+            depth_stencil: None,
+            samples: 1,
+        }
+        .create(gpu);
         let (lod_pipeline, edge_pipelines) = match &config.policy {
-            LodPolicy::Foveated { .. } => {
-                (Some(fullscreen("foveated lod", shaders::CPS_LOD_FOVEATED, "fs_lod_foveated", Some(LOD), None)), None)
-            }
+            LodPolicy::Foveated { .. } => (lod_and_mask("foveated lod", "foveated"), None),
             LodPolicy::Content { .. } => (
-                Some(fullscreen("content lod", shaders::CPS_LOD_CONTENT, "fs_lod_content", Some(LOD), None)),
+                lod_and_mask("content lod", "content"),
                 Some((
                     fullscreen("edge mask", shaders::CPS_EDGE_MASK, "fs_edge_mask", Some(MASK), None),
                     fullscreen("edge reduce", shaders::CPS_MASK_REDUCE, "fs_mask_reduce", Some(MASK), None),
                 )),
             ),
-            LodPolicy::Explicit(_) => (None, None),
+            LodPolicy::Explicit(_) => (
+                fullscreen("lod present", shaders::CPS_LOD, &format!("fs_lod_present{counted}"), Some(MASK), None),
+                None,
+            ),
         };
-        let present_entry = if plan.skip_absent_levels_on_gpu { "fs_lod_present_and_count" } else { "fs_lod_present" };
         let mark_pipeline = plan.stencil_pyramid.then(|| {
             FullscreenPipeline {
                 label: "stencil mark",
                 fragment: shaders::CPS_STENCIL_MARK,
                 entry_point: "fs_stencil_mark",
-                // Stencil only: the pass's one colour slot is empty.
-                targets: &[None],
+                // Stencil only: no colour target.
+                targets: &[],
                 depth_stencil: Some(stencil_state(
                     STENCIL,
                     wgpu::CompareFunction::Always,
@@ -197,7 +213,6 @@ impl CpsRenderer {
                 .collect(),
             lod_pipeline,
             edge_pipelines,
-            present_pipeline: fullscreen("lod present", shaders::CPS_LOD_PRESENT, present_entry, Some(MASK), None),
             mask_reduce_pipeline: fullscreen(
                 "mask reduce",
                 shaders::CPS_MASK_REDUCE,
@@ -250,7 +265,7 @@ impl CpsRenderer {
                     bytes_per_row: Some(self.plan.screen.0),
                     rows_per_image: None,
                 },
-                self.lod.size(),
+                wgpu::Extent3d { width: self.plan.screen.0, height: self.plan.screen.1, depth_or_array_layers: 1 },
             );
         }
         let mut encoder = gpu.encoder("cps frame");
@@ -323,7 +338,7 @@ impl CpsRenderer {
                 &[wgpu::BindingResource::TextureView(&edges.level_views[level - 1])],
             );
             let targets = PassTargets {
-                colour: Some(&edges.level_views[level]),
+                colours: &[&edges.level_views[level]],
                 stencil: None,
                 viewport: self.plan.level_extents[level],
             };
@@ -334,101 +349,101 @@ impl CpsRenderer {
         }
     }
 
+    /// The LOD buffer and mask level 0 in one pass (the content policy's edge pyramid first), or
+    /// for the caller's own LOD, uploaded before the encoder, mask level 0 from it.
     fn record_lod(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, frame: &CpsFrame, timer: &mut GpuTimer) {
         let screen = self.plan.screen;
         let top = self.plan.top_level;
-        let lod_targets = || PassTargets { colour: Some(&self.lod_view), stencil: None, viewport: screen };
-        match (&self.config.policy, &self.lod_pipeline) {
-            (LodPolicy::Foveated { focus, inner_radius }, Some(pipeline)) => {
-                let words = [
-                    (focus.0 * screen.0 as f32).to_bits(),
-                    (focus.1 * screen.1 as f32).to_bits(),
-                    inner_radius.to_bits(),
-                    top,
-                ];
-                let uniform = uniform_buffer(gpu, "foveation", bytemuck::cast_slice(&words));
-                let group = bind_group(gpu, "foveation", pipeline, 0, &[uniform.as_entire_binding()]);
-                let mut pass = begin(encoder, "lod", lod_targets(), timer, None);
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, &group, &[]);
-                pass.draw(0..3, 0..1);
+        let mut words = [0.0f32.to_bits(), 0.0f32.to_bits(), 0.0f32.to_bits(), top];
+        if let LodPolicy::Foveated { focus, inner_radius } = &self.config.policy {
+            words[..3].copy_from_slice(&[
+                (focus.0 * screen.0 as f32).to_bits(),
+                (focus.1 * screen.1 as f32).to_bits(),
+                inner_radius.to_bits(),
+            ]);
+        }
+        let parameters = uniform_buffer(gpu, "lod parameters", bytemuck::cast_slice(&words));
+        let mut resources = vec![(0, parameters.as_entire_binding())];
+        match (&self.config.policy, &self.edges) {
+            (LodPolicy::Content { normal_cos, depth_ratio }, Some(edges)) => {
+                self.record_edges(gpu, encoder, frame, edges, (*normal_cos, *depth_ratio), timer);
+                resources.push((1, wgpu::BindingResource::TextureView(&edges.all)));
             }
-            (LodPolicy::Content { normal_cos, depth_ratio }, Some(pipeline)) => {
-                let (edges, (edge_pipeline, edge_reduce)) =
-                    (self.edges.as_ref().expect("planned"), self.edge_pipelines.as_ref().expect("planned"));
-                let words = [frame.eye.x, frame.eye.y, frame.eye.z, *normal_cos, *depth_ratio, 0.0, 0.0, 0.0];
-                let thresholds = uniform_buffer(gpu, "edge thresholds", bytemuck::cast_slice(&words));
-                let [position, normal, _] = &frame.gbuffer.views;
-                let group = bind_group(
-                    gpu,
-                    "edge mask",
-                    edge_pipeline,
-                    0,
-                    &[
-                        thresholds.as_entire_binding(),
-                        wgpu::BindingResource::TextureView(position),
-                        wgpu::BindingResource::TextureView(normal),
-                    ],
-                );
-                {
-                    let targets = PassTargets { colour: Some(&edges.level_views[0]), stencil: None, viewport: screen };
-                    let mut pass = begin(encoder, "edges 0", targets, timer, None);
-                    pass.set_pipeline(edge_pipeline);
-                    pass.set_bind_group(0, &group, &[]);
-                    pass.draw(0..3, 0..1);
-                }
-                self.record_edge_reduce(gpu, encoder, edges, edge_reduce, timer);
-                let uniform = uniform_buffer(gpu, "content lod", bytemuck::cast_slice(&[top, 0, 0, 0]));
-                let group = bind_group(
-                    gpu,
-                    "content lod",
-                    pipeline,
-                    0,
-                    &[uniform.as_entire_binding(), wgpu::BindingResource::TextureView(&edges.all)],
-                );
-                let mut pass = begin(encoder, "lod", lod_targets(), timer, None);
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, &group, &[]);
-                pass.draw(0..3, 0..1);
-            }
-            // Explicit LOD was uploaded before the encoder.
+            (LodPolicy::Explicit(_), _) => resources.push((2, wgpu::BindingResource::TextureView(&self.lod_view))),
             _ => {}
         }
+        let group = bind_group_at(gpu, "lod", &self.lod_pipeline, 0, &resources);
+        let counts = self.plan.skip_absent_levels_on_gpu.then(|| {
+            bind_group(gpu, "level draws", &self.lod_pipeline, 1, &[self.level_draws.as_entire_binding()])
+        });
+        let mask = &self.mask.level_views[0];
+        let written: &[&wgpu::TextureView] =
+            if matches!(self.config.policy, LodPolicy::Explicit(_)) { &[mask] } else { &[&self.lod_view, mask] };
+        let mut pass = begin(encoder, "lod", PassTargets { colours: written, stencil: None, viewport: screen }, timer, None);
+        pass.set_pipeline(&self.lod_pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        if let Some(counts) = &counts {
+            pass.set_bind_group(1, counts, &[]);
+        }
+        pass.draw(0..3, 0..1);
     }
 
-    /// The LOD-present mask pyramid, one pass a level (level 0 from the LOD, coarser ones ORing
-    /// the finer mask); then every level's stencil in its atlas, one pass, one draw a level.
+    /// The content policy's edge flags and their OR-reduced pyramid.
+    fn record_edges(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &CpsFrame,
+        edges: &MipChain,
+        (normal_cos, depth_ratio): (f32, f32),
+        timer: &mut GpuTimer,
+    ) {
+        let (edge_pipeline, edge_reduce) = self.edge_pipelines.as_ref().expect("planned with the edge pyramid");
+        let words = [frame.eye.x, frame.eye.y, frame.eye.z, normal_cos, depth_ratio, 0.0, 0.0, 0.0];
+        let thresholds = uniform_buffer(gpu, "edge thresholds", bytemuck::cast_slice(&words));
+        let [position, normal, _] = &frame.gbuffer.views;
+        let group = bind_group(
+            gpu,
+            "edge mask",
+            edge_pipeline,
+            0,
+            &[
+                thresholds.as_entire_binding(),
+                wgpu::BindingResource::TextureView(position),
+                wgpu::BindingResource::TextureView(normal),
+            ],
+        );
+        {
+            let targets =
+                PassTargets { colours: &[&edges.level_views[0]], stencil: None, viewport: self.plan.screen };
+            let mut pass = begin(encoder, "edges 0", targets, timer, None);
+            pass.set_pipeline(edge_pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            pass.draw(0..3, 0..1);
+        }
+        self.record_edge_reduce(gpu, encoder, edges, edge_reduce, timer);
+    }
+
+    /// The LOD-present mask's coarser levels, one pass a level (each ORing the finer one); then
+    /// every level's stencil in its atlas, one pass, one draw a level.
     fn record_stencil_pyramid(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
-        let range = uniform_buffer(gpu, "lod range", bytemuck::cast_slice(&[self.plan.top_level, 0, 0, 0]));
-        let from_lod = [range.as_entire_binding(), wgpu::BindingResource::TextureView(&self.lod_view)];
-        let counts = self.plan.skip_absent_levels_on_gpu.then(|| {
-            bind_group(gpu, "level draws", &self.present_pipeline, 1, &[self.level_draws.as_entire_binding()])
-        });
-        for level in 0..self.plan.levels() as usize {
+        for level in 1..self.plan.levels() as usize {
             let targets = PassTargets {
-                colour: Some(&self.mask.level_views[level]),
+                colours: &[&self.mask.level_views[level]],
                 stencil: None,
                 viewport: self.plan.level_extents[level],
             };
             let mut pass = begin(encoder, &format!("pyramid {level}"), targets, timer, None);
-            if level == 0 {
-                pass.set_pipeline(&self.present_pipeline);
-                pass.set_bind_group(0, &bind_group(gpu, "lod present", &self.present_pipeline, 0, &from_lod), &[]);
-                if let Some(counts) = &counts {
-                    pass.set_bind_group(1, counts, &[]);
-                }
-            } else {
-                let finer = wgpu::BindingResource::TextureView(&self.mask.level_views[level - 1]);
-                let group = bind_group(gpu, "mask reduce", &self.mask_reduce_pipeline, 0, &[finer]);
-                pass.set_pipeline(&self.mask_reduce_pipeline);
-                pass.set_bind_group(0, &group, &[]);
-            }
+            let finer = wgpu::BindingResource::TextureView(&self.mask.level_views[level - 1]);
+            let group = bind_group(gpu, "mask reduce", &self.mask_reduce_pipeline, 0, &[finer]);
+            pass.set_pipeline(&self.mask_reduce_pipeline);
+            pass.set_bind_group(0, &group, &[]);
             pass.draw(0..3, 0..1);
         }
         let (Some(mark), Some(stencil)) = (&self.mark_pipeline, &self.stencil) else { return };
         let stencil_view = stencil.create_view(&Default::default());
         let targets = PassTargets {
-            colour: None,
+            colours: &[],
             stencil: Some((&stencil_view, wgpu::LoadOp::Clear(0))),
             viewport: self.plan.atlas.size,
         };
@@ -470,7 +485,7 @@ impl CpsRenderer {
         let lit = self.lit.create_view(&Default::default());
         let stencil = self.stencil.as_ref().map(|stencil| stencil.create_view(&Default::default()));
         let targets = PassTargets {
-            colour: Some(&lit),
+            colours: &[&lit],
             stencil: stencil.as_ref().map(|view| (view, wgpu::LoadOp::Load)),
             viewport: self.plan.atlas.size,
         };
@@ -512,7 +527,7 @@ impl CpsRenderer {
         ];
         let group = bind_group(gpu, "composite", &self.composite_pipeline, 0, &resources);
         let view = self.image.create_view(&Default::default());
-        let targets = PassTargets { colour: Some(&view), stencil: None, viewport: self.plan.screen };
+        let targets = PassTargets { colours: &[&view], stencil: None, viewport: self.plan.screen };
         let mut pass = begin(encoder, "composite", targets, timer, None);
         pass.set_pipeline(&self.composite_pipeline);
         pass.set_bind_group(0, &group, &[]);
