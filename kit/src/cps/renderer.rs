@@ -65,11 +65,8 @@ fn begin<'e>(
     timer: &mut GpuTimer,
     queries: Option<&wgpu::QuerySet>,
 ) -> wgpu::RenderPass<'e> {
-    let colours: Vec<_> = targets
-        .colours
-        .iter()
-        .map(|view| crate::attachments::colour(view, None, wgpu::Color::TRANSPARENT))
-        .collect();
+    let colours: Vec<_> =
+        targets.colours.iter().map(|view| crate::attachments::colour(view, None, wgpu::Color::TRANSPARENT)).collect();
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
         color_attachments: &colours,
@@ -131,31 +128,30 @@ impl CpsRenderer {
         let atlas = &plan.atlas;
         let lod = gpu.texture("lod", plan.padded, LOD, 1, target_usage() | wgpu::TextureUsages::COPY_DST);
         let chain = |label, format| MipChain::new(gpu, label, plan.padded, levels, format, target_usage());
-        let fullscreen = |label: &'static str,
-                          fragment,
-                          entry_point: &str,
-                          format: Option<wgpu::TextureFormat>,
-                          depth_stencil| {
+        let fullscreen =
+            |label: &'static str, fragment, entry_point: &str, format: Option<wgpu::TextureFormat>, depth_stencil| {
+                FullscreenPipeline {
+                    label,
+                    fragment,
+                    entry_point,
+                    targets: &[format.map(Into::into)],
+                    depth_stencil,
+                    samples: 1,
+                }
+                .create(gpu)
+            };
+        let counted = if plan.skip_absent_levels_on_gpu { "_counted" } else { "" };
+        let lod_and_mask = |label, policy: &str| {
             FullscreenPipeline {
                 label,
-                fragment,
-                entry_point,
-                targets: &[format.map(Into::into)],
-                depth_stencil,
+                fragment: shaders::CPS_LOD,
+                entry_point: &format!("fs_lod_{policy}{counted}"),
+                targets: &[Some(LOD.into()), Some(MASK.into())],
+                depth_stencil: None,
                 samples: 1,
             }
             .create(gpu)
         };
-        let counted = if plan.skip_absent_levels_on_gpu { "_counted" } else { "" };
-        let lod_and_mask = |label, policy: &str| FullscreenPipeline {
-            label,
-            fragment: shaders::CPS_LOD,
-            entry_point: &format!("fs_lod_{policy}{counted}"),
-            targets: &[Some(LOD.into()), Some(MASK.into())],
-            depth_stencil: None,
-            samples: 1,
-        }
-        .create(gpu);
         let (lod_pipeline, edge_pipelines) = match &config.policy {
             LodPolicy::Foveated { .. } => (lod_and_mask("foveated lod", "foveated"), None),
             LodPolicy::Content { .. } => (
@@ -373,13 +369,15 @@ impl CpsRenderer {
             _ => {}
         }
         let group = bind_group_at(gpu, "lod", &self.lod_pipeline, 0, &resources);
-        let counts = self.plan.skip_absent_levels_on_gpu.then(|| {
-            bind_group(gpu, "level draws", &self.lod_pipeline, 1, &[self.level_draws.as_entire_binding()])
-        });
+        let counts = self
+            .plan
+            .skip_absent_levels_on_gpu
+            .then(|| bind_group(gpu, "level draws", &self.lod_pipeline, 1, &[self.level_draws.as_entire_binding()]));
         let mask = &self.mask.level_views[0];
         let written: &[&wgpu::TextureView] =
             if matches!(self.config.policy, LodPolicy::Explicit(_)) { &[mask] } else { &[&self.lod_view, mask] };
-        let mut pass = begin(encoder, "lod", PassTargets { colours: written, stencil: None, viewport: screen }, timer, None);
+        let mut pass =
+            begin(encoder, "lod", PassTargets { colours: written, stencil: None, viewport: screen }, timer, None);
         pass.set_pipeline(&self.lod_pipeline);
         pass.set_bind_group(0, &group, &[]);
         if let Some(counts) = &counts {
@@ -414,8 +412,7 @@ impl CpsRenderer {
             ],
         );
         {
-            let targets =
-                PassTargets { colours: &[&edges.level_views[0]], stencil: None, viewport: self.plan.screen };
+            let targets = PassTargets { colours: &[&edges.level_views[0]], stencil: None, viewport: self.plan.screen };
             let mut pass = begin(encoder, "edges 0", targets, timer, None);
             pass.set_pipeline(edge_pipeline);
             pass.set_bind_group(0, &group, &[]);
