@@ -22,17 +22,25 @@ fn level_of(pixel: vec2i) -> u32 {
     return min(textureLoad(lod, clamped, 0).x, composite.max_level);
 }
 
+// The texel of `level` holding `pixel`.
+fn colour_at(pixel: vec2i, level: u32) -> vec4f {
+    let clamped = vec2u(clamp(pixel, vec2i(0), vec2i(composite.screen) - 1));
+    return textureLoad(lit, vec2i(composite.origins[level].xy + (clamped >> vec2u(level))), 0);
+}
+
 // The shading a pixel gets under nearest composition (its own coarse texel).
 fn coarse_colour(pixel: vec2i) -> vec4f {
-    let clamped = vec2u(clamp(pixel, vec2i(0), vec2i(composite.screen) - 1));
-    let level = level_of(pixel);
-    return textureLoad(lit, vec2i(composite.origins[level].xy + (clamped >> vec2u(level))), 0);
+    return colour_at(pixel, level_of(pixel));
 }
 
 // The pixel just outside the coarse fragment holding `pixel`, along `axis` (0 = x, 1 = y), on the
 // side of `direction` (-1 or +1).
 fn beyond_fragment(pixel: vec2i, axis: u32, direction: i32) -> vec2i {
-    let level = level_of(pixel);
+    return beyond_fragment_at(pixel, level_of(pixel), axis, direction);
+}
+
+// The same for a pixel whose level is known.
+fn beyond_fragment_at(pixel: vec2i, level: u32, axis: u32, direction: i32) -> vec2i {
     let size = 1 << level;
     let origin = (pixel >> vec2u(level)) << vec2u(level);
     var neighbour = pixel;
@@ -67,10 +75,9 @@ fn fs_composite_four_neighbour(@builtin(position) position: vec4f) -> @location(
     return vec4f(mix(top, bottom, w.y).rgb, 1.0);
 }
 
-// Where a fragment's shading was computed: the centre pixel of its 2^l block, clamped to the
-// screen (cps/lighting.wgsl); a level-0 fragment is its own pixel.
-fn sample_of(pixel: vec2i) -> vec2i {
-    let level = level_of(pixel);
+// Where a fragment of `level` holding `pixel` was lit: the centre pixel of its 2^level block,
+// clamped to the screen (cps/lighting.wgsl); a level-0 fragment is its own pixel.
+fn sample_at(pixel: vec2i, level: u32) -> vec2i {
     let origin = (pixel >> vec2u(level)) << vec2u(level);
     return min(origin + ((1 << level) >> 1), vec2i(composite.screen) - 1);
 }
@@ -80,20 +87,28 @@ fn on_screen(pixel: vec2i) -> bool {
 }
 
 // A corner for the seam-free triangle: the pixel whose fragment's sample it is (P itself for a
-// flat corner of P's own colour) and the step from A to it (zero where unusable).
+// flat corner of P's own colour), that fragment's level and the step from A to the sample (zero
+// where unusable).
 struct Corner {
     pixel: vec2i,
+    level: u32,
     edge: vec2i,
 }
 
-// The sample of the fragment just across P's fragment along `axis` on the side of `direction`;
-// unusable (zero step) past the screen's edge.
-fn corner_across(p: vec2i, a: vec2i, axis: u32, direction: i32) -> Corner {
-    let across = beyond_fragment(p, axis, direction);
+// The sample of the fragment just across P's fragment (of level `own`) along `axis` on the side
+// of `direction`; unusable (zero step) past the screen's edge.
+fn corner_across(p: vec2i, own: u32, a: vec2i, axis: u32, direction: i32) -> Corner {
+    let across = beyond_fragment_at(p, own, axis, direction);
     if !on_screen(across) {
-        return Corner(p, vec2i(0));
+        return Corner(p, own, vec2i(0));
     }
-    return Corner(across, sample_of(across) - a);
+    let level = level_of(across);
+    return Corner(across, level, sample_at(across, level) - a);
+}
+
+struct CornerPair {
+    first: Corner,
+    second: Corner,
 }
 
 // The two corners along `axis`, the side P lies towards first (either, where P is level with A).
@@ -101,17 +116,39 @@ fn corner_across(p: vec2i, a: vec2i, axis: u32, direction: i32) -> Corner {
 // from A (a level that does not nest in the others' blocks can hold another's sample), the first
 // is flat: P's own colour, level with P, so the composite is constant along `axis` there, as
 // clamp-to-edge addressing is, rather than extrapolated.
-fn corners_along(p: vec2i, a: vec2i, axis: u32, toward: i32) -> array<Corner, 2> {
-    var corners = array(corner_across(p, a, axis, toward), corner_across(p, a, axis, -toward));
-    if all(corners[0].edge == vec2i(0)) && p[axis] == a[axis] {
-        corners = array(corners[1], corners[0]);
+fn corners_along(p: vec2i, own: u32, a: vec2i, axis: u32, toward: i32) -> CornerPair {
+    var pair = CornerPair(corner_across(p, own, a, axis, toward), corner_across(p, own, a, axis, -toward));
+    if all(pair.first.edge == vec2i(0)) && p[axis] == a[axis] {
+        pair = CornerPair(pair.second, pair.first);
     }
-    if all(corners[0].edge == vec2i(0)) {
+    if all(pair.first.edge == vec2i(0)) {
         var edge = vec2i(0);
         edge[axis] = toward * max(abs(p[axis] - a[axis]), 1);
-        corners[0] = Corner(p, edge);
+        pair.first = Corner(p, own, edge);
     }
-    return corners;
+    return pair;
+}
+
+// How well the triangle A, B, D serves P (P - A = `d`): rank 3 holds P with three samples, 2
+// holds P with a flat corner, 1 extrapolates, 0 degenerate; and beta = nb / det, delta = nd / det.
+struct Candidate {
+    rank: i32,
+    nb: i32,
+    nd: i32,
+    det: i32,
+}
+
+fn candidate(p: vec2i, d: vec2i, b: Corner, e: Corner) -> Candidate {
+    let u = b.edge;
+    let v = e.edge;
+    let det = u.x * v.y - u.y * v.x;
+    let nb = d.x * v.y - d.y * v.x;
+    let nd = u.x * d.y - u.y * d.x;
+    let sign = select(1, -1, det < 0);
+    let holds = nb * sign >= 0 && nd * sign >= 0 && (nb + nd) * sign <= det * sign;
+    let flat = all(b.pixel == p) || all(e.pixel == p);
+    let rank = select(0, select(1, select(3, 2, flat), holds), det != 0);
+    return Candidate(rank, nb, nd, det);
 }
 
 // Ours: linear interpolation over a triangle of three shading samples, each where its fragment
@@ -123,46 +160,43 @@ fn corners_along(p: vec2i, a: vec2i, axis: u32, toward: i32) -> array<Corner, 2>
 // along each axis, the sides P lies towards first) it takes the first that holds P (weights in
 // [0, 1]: no overshoot) with three samples, else with a flat corner, else the first that is not
 // degenerate (it extrapolates); with none, P's own colour. Integer tests, so every adapter picks
-// the same triangle.
+// the same triangle. Five LOD texels and three lit texels a pixel.
 @fragment
 fn fs_composite_seam_free(@builtin(position) position: vec4f) -> @location(0) vec4f {
     let p = vec2i(position.xy);
-    let a = sample_of(p);
+    let own = level_of(p);
+    let a = sample_at(p, own);
     let d = p - a;
     let toward = select(vec2i(1), vec2i(-1), p < a);
-    var along_x = corners_along(p, a, 0u, toward.x);
-    var along_y = corners_along(p, a, 1u, toward.y);
-    var chosen = vec3i(0);
-    var found = 0;
-    for (var i = 0; i < 4; i++) {
-        let u = along_x[i & 1].edge;
-        let v = along_y[i >> 1].edge;
-        // beta = nb / det, delta = nd / det.
-        let det = u.x * v.y - u.y * v.x;
-        let nb = d.x * v.y - d.y * v.x;
-        let nd = u.x * d.y - u.y * d.x;
-        let sign = select(1, -1, det < 0);
-        let holds = nb * sign >= 0 && nd * sign >= 0 && (nb + nd) * sign <= det * sign;
-        let flat = all(along_x[i & 1].pixel == p) || all(along_y[i >> 1].pixel == p);
-        // 3: holds P with three samples; 2: holds P with a flat corner; 1: extrapolates; 0: degenerate.
-        let rank = select(0, select(1, select(3, 2, flat), holds), det != 0);
-        if rank > found {
-            found = rank;
-            chosen = vec3i(i, nb, nd);
-        }
-        if found == 3 {
-            break;
-        }
+    let along_x = corners_along(p, own, a, 0u, toward.x);
+    let along_y = corners_along(p, own, a, 1u, toward.y);
+    // The first of the highest rank, in the order (x, y) nearer sides first.
+    var best = candidate(p, d, along_x.first, along_y.first);
+    var b = along_x.first;
+    var e = along_y.first;
+    let x_away = candidate(p, d, along_x.second, along_y.first);
+    if x_away.rank > best.rank {
+        best = x_away;
+        b = along_x.second;
     }
-    let own = coarse_colour(p);
-    if found == 0 {
-        return vec4f(own.rgb, 1.0);
+    let y_away = candidate(p, d, along_x.first, along_y.second);
+    if y_away.rank > best.rank {
+        best = y_away;
+        b = along_x.first;
+        e = along_y.second;
     }
-    let b = along_x[chosen.x & 1];
-    let e = along_y[chosen.x >> 1];
-    let det = f32(b.edge.x * e.edge.y - b.edge.y * e.edge.x);
-    let beta = f32(chosen.y) / det;
-    let delta = f32(chosen.z) / det;
-    let colour = own + beta * (coarse_colour(b.pixel) - own) + delta * (coarse_colour(e.pixel) - own);
+    let both_away = candidate(p, d, along_x.second, along_y.second);
+    if both_away.rank > best.rank {
+        best = both_away;
+        b = along_x.second;
+        e = along_y.second;
+    }
+    let colour_a = colour_at(p, own);
+    if best.rank == 0 {
+        return vec4f(colour_a.rgb, 1.0);
+    }
+    let beta = f32(best.nb) / f32(best.det);
+    let delta = f32(best.nd) / f32(best.det);
+    let colour = colour_a + beta * (colour_at(b.pixel, b.level) - colour_a) + delta * (colour_at(e.pixel, e.level) - colour_a);
     return vec4f(colour.rgb, 1.0);
 }
