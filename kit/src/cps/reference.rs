@@ -15,9 +15,14 @@ pub fn needed_texels(screen: (u32, u32), lod: &[u8], top: u32, level: u32) -> Ve
     blocks_holding(screen, &at_level, level)
 }
 
+/// Texels of level `level`: ceil(screen / 2^level).
+fn level_extent(screen: (u32, u32), level: u32) -> (u32, u32) {
+    (screen.0.div_ceil(1 << level), screen.1.div_ceil(1 << level))
+}
+
 /// For level `level`, whether each texel's 2^level block holds a pixel marked in `pixels`.
 pub fn blocks_holding(screen: (u32, u32), pixels: &[bool], level: u32) -> Vec<bool> {
-    let (w, h) = (screen.0.div_ceil(1 << level), screen.1.div_ceil(1 << level));
+    let (w, h) = level_extent(screen, level);
     let mut held = vec![false; (w * h) as usize];
     for y in 0..screen.1 {
         for x in 0..screen.0 {
@@ -99,7 +104,7 @@ pub fn sample_pixel(screen: (u32, u32), level: u32, texel: [i64; 2]) -> [i64; 2]
 pub fn sampled_levels(screen: (u32, u32), top: u32, shading: impl Fn([i64; 2]) -> [f32; 4]) -> Vec<Level> {
     (0..=top)
         .map(|level| {
-            let extent = (screen.0.div_ceil(1 << level), screen.1.div_ceil(1 << level));
+            let extent = level_extent(screen, level);
             let texels = (0..i64::from(extent.1))
                 .flat_map(|y| (0..i64::from(extent.0)).map(move |x| [x, y]))
                 .map(|texel| shading(sample_pixel(screen, level, texel)))

@@ -112,8 +112,9 @@ pub struct CpsRenderer {
     /// The LOD buffer and mask level 0 from the policy, or (the caller's own LOD) mask level 0
     /// from the LOD buffer.
     lod_pipeline: wgpu::RenderPipeline,
-    /// Edge detection and the edge pyramid's reduction (content policy only).
-    edge_pipelines: Option<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
+    /// Edge detection (content policy only).
+    edge_pipeline: Option<wgpu::RenderPipeline>,
+    /// OR-reduces a mip chain's level from the finer one: the edge and LOD-present pyramids.
     mask_reduce_pipeline: wgpu::RenderPipeline,
     /// Stencil marks of every level, from the finished mask pyramid.
     mark_pipeline: Option<wgpu::RenderPipeline>,
@@ -152,14 +153,11 @@ impl CpsRenderer {
             }
             .create(gpu)
         };
-        let (lod_pipeline, edge_pipelines) = match &config.policy {
+        let (lod_pipeline, edge_pipeline) = match &config.policy {
             LodPolicy::Foveated { .. } => (lod_and_mask("foveated lod", "foveated"), None),
             LodPolicy::Content { .. } => (
                 lod_and_mask("content lod", "content"),
-                Some((
-                    fullscreen("edge mask", shaders::CPS_EDGE_MASK, "fs_edge_mask", Some(MASK), None),
-                    fullscreen("edge reduce", shaders::CPS_MASK_REDUCE, "fs_mask_reduce", Some(MASK), None),
-                )),
+                Some(fullscreen("edge mask", shaders::CPS_EDGE_MASK, "fs_edge_mask", Some(MASK), None)),
             ),
             LodPolicy::Explicit(_) => (
                 fullscreen("lod present", shaders::CPS_LOD, &format!("fs_lod_present{counted}"), Some(MASK), None),
@@ -208,7 +206,7 @@ impl CpsRenderer {
                 })
                 .collect(),
             lod_pipeline,
-            edge_pipelines,
+            edge_pipeline,
             mask_reduce_pipeline: fullscreen(
                 "mask reduce",
                 shaders::CPS_MASK_REDUCE,
@@ -316,30 +314,26 @@ impl CpsRenderer {
         timer.read(gpu).map(drop)
     }
 
-    /// Reduces the edge pyramid from mip 1 to the top: texel q ORs its 2×2 children.
-    fn record_edge_reduce(
+    /// Reduces `chain` from mip 1 to the top, one pass a level (labelled `label` and the level):
+    /// texel q ORs its 2×2 children.
+    fn record_or_reduce(
         &self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
-        edges: &MipChain,
-        reduce: &wgpu::RenderPipeline,
+        chain: &MipChain,
+        label: &str,
         timer: &mut GpuTimer,
     ) {
         for level in 1..self.plan.levels() as usize {
-            let group = bind_group(
-                gpu,
-                "edges",
-                reduce,
-                0,
-                &[wgpu::BindingResource::TextureView(&edges.level_views[level - 1])],
-            );
+            let finer = wgpu::BindingResource::TextureView(&chain.level_views[level - 1]);
+            let group = bind_group(gpu, label, &self.mask_reduce_pipeline, 0, &[finer]);
             let targets = PassTargets {
-                colours: &[&edges.level_views[level]],
+                colours: &[&chain.level_views[level]],
                 stencil: None,
                 viewport: self.plan.level_extents[level],
             };
-            let mut pass = begin(encoder, &format!("edges {level}"), targets, timer, None);
-            pass.set_pipeline(reduce);
+            let mut pass = begin(encoder, &format!("{label} {level}"), targets, timer, None);
+            pass.set_pipeline(&self.mask_reduce_pipeline);
             pass.set_bind_group(0, &group, &[]);
             pass.draw(0..3, 0..1);
         }
@@ -396,7 +390,7 @@ impl CpsRenderer {
         (normal_cos, depth_ratio): (f32, f32),
         timer: &mut GpuTimer,
     ) {
-        let (edge_pipeline, edge_reduce) = self.edge_pipelines.as_ref().expect("planned with the edge pyramid");
+        let edge_pipeline = self.edge_pipeline.as_ref().expect("planned with the edge pyramid");
         let words = [frame.eye.x, frame.eye.y, frame.eye.z, normal_cos, depth_ratio, 0.0, 0.0, 0.0];
         let thresholds = uniform_buffer(gpu, "edge thresholds", bytemuck::cast_slice(&words));
         let [position, normal, _] = &frame.gbuffer.views;
@@ -418,25 +412,13 @@ impl CpsRenderer {
             pass.set_bind_group(0, &group, &[]);
             pass.draw(0..3, 0..1);
         }
-        self.record_edge_reduce(gpu, encoder, edges, edge_reduce, timer);
+        self.record_or_reduce(gpu, encoder, edges, "edges", timer);
     }
 
     /// The LOD-present mask's coarser levels, one pass a level (each ORing the finer one); then
     /// every level's stencil in its atlas, one pass, one draw a level.
     fn record_stencil_pyramid(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
-        for level in 1..self.plan.levels() as usize {
-            let targets = PassTargets {
-                colours: &[&self.mask.level_views[level]],
-                stencil: None,
-                viewport: self.plan.level_extents[level],
-            };
-            let mut pass = begin(encoder, &format!("pyramid {level}"), targets, timer, None);
-            let finer = wgpu::BindingResource::TextureView(&self.mask.level_views[level - 1]);
-            let group = bind_group(gpu, "mask reduce", &self.mask_reduce_pipeline, 0, &[finer]);
-            pass.set_pipeline(&self.mask_reduce_pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            pass.draw(0..3, 0..1);
-        }
+        self.record_or_reduce(gpu, encoder, &self.mask, "pyramid", timer);
         let (Some(mark), Some(stencil)) = (&self.mark_pipeline, &self.stencil) else { return };
         let stencil_view = stencil.create_view(&Default::default());
         let targets = PassTargets {

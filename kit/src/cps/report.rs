@@ -73,24 +73,30 @@ fn texels_of(values: &[f32]) -> Vec<[f32; 4]> {
     values.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect()
 }
 
-/// Full resolution's image for the sweep's scene with `lights`: displayed, and its HDR texels.
-pub struct SweepReference {
-    pub inputs: DeferredInputs,
-    pub shown: image::RgbaImage,
-    pub texels: Vec<[f32; 4]>,
+/// The sweep's scene with `lights` and full resolution's image of it: displayed, and its HDR
+/// texels.
+struct SweepReference {
+    inputs: DeferredInputs,
+    shown: image::RgbaImage,
+    texels: Vec<[f32; 4]>,
 }
 
 impl SweepReference {
-    fn new(gpu: &Gpu, sweep: &CpsSweep, lights: u32, fullres: &FullResolution, timer: &mut GpuTimer) -> Result<Self> {
+    /// Renders full resolution once (untimed; for the report, its warm-up).
+    fn new(gpu: &Gpu, sweep: &CpsSweep, lights: u32, fullres: &FullResolution) -> Result<Self> {
         let inputs = DeferredInputs::new(gpu, &corridor(sweep.seed, lights), sweep.size)?;
-        fullres.render(gpu, &inputs, timer)?;
+        fullres.render(gpu, &inputs, &mut GpuTimer::new(gpu, 1))?;
         let hdr = read_texture(gpu, &fullres.target, wgpu::TextureAspect::All, 0)?.as_f16();
         Ok(Self { inputs, shown: to_display(sweep.size.0, sweep.size.1, &hdr)?, texels: texels_of(&hdr) })
+    }
+
+    fn frame(&self) -> CpsFrame<'_> {
+        CpsFrame { gbuffer: &self.inputs.gbuffer, lights: &self.inputs.lights, eye: self.inputs.eye }
     }
 }
 
 /// A rendered composite's error against full resolution.
-#[derive(Clone, Copy, Debug, Serialize)]
+#[derive(Clone, Copy, Debug)]
 pub struct Quality {
     pub psnr_db: f64,
     pub flip: f64,
@@ -127,12 +133,8 @@ pub fn composite_quality(gpu: &Gpu, sweep: &CpsSweep, composites: &[CompositeMod
     let fullres = FullResolution::new(gpu, sweep.size);
     let mut rows = Vec::new();
     for &lights in &sweep.light_counts {
-        let reference = SweepReference::new(gpu, sweep, lights, &fullres, &mut GpuTimer::new(gpu, 1))?;
-        let frame = CpsFrame {
-            gbuffer: &reference.inputs.gbuffer,
-            lights: &reference.inputs.lights,
-            eye: reference.inputs.eye,
-        };
+        let reference = SweepReference::new(gpu, sweep, lights, &fullres)?;
+        let frame = reference.frame();
         for policy in &sweep.policies {
             for &max_level in &sweep.max_levels {
                 for &composite in composites {
@@ -161,8 +163,7 @@ fn measure_cps(
     reference: &SweepReference,
     lights: u32,
 ) -> Result<CpsReportRow> {
-    let inputs = &reference.inputs;
-    let frame = CpsFrame { gbuffer: &inputs.gbuffer, lights: &inputs.lights, eye: inputs.eye };
+    let frame = reference.frame();
     let renderer = CpsRenderer::new(gpu, sweep.size, config.clone())?;
     renderer.render(gpu, &frame)?;
     let mut times = Vec::new();
@@ -199,7 +200,7 @@ pub fn run_sweep(gpu: &Gpu, sweep: &CpsSweep, mut progress: impl FnMut(&CpsRepor
     let fullres = FullResolution::new(gpu, sweep.size);
     for &lights in &sweep.light_counts {
         // One untimed warm-up (which also makes the reference), then the repeats.
-        let reference = SweepReference::new(gpu, sweep, lights, &fullres, &mut GpuTimer::new(gpu, 1))?;
+        let reference = SweepReference::new(gpu, sweep, lights, &fullres)?;
         let mut times = Vec::new();
         for _ in 0..sweep.repeats.max(1) {
             let mut timer = GpuTimer::new(gpu, 1);
