@@ -58,7 +58,6 @@ shader_files! {
     CBR_SCENE => "cbr/scene.wgsl",
     CBR_SHADE_SAMPLES => "cbr/shade_samples.wgsl",
     CBR_SHADE_MSAA_SAMPLES => "cbr/shade_msaa_samples.wgsl",
-    CBR_SHADE_FULL_RESOLUTION => "cbr/shade_full_resolution.wgsl",
     CBR_UNPACK_SAMPLES => "cbr/unpack_samples.wgsl",
     CBR_RECONSTRUCT => "cbr/reconstruct.wgsl",
     CBR_UPSCALE => "cbr/upscale.wgsl",

@@ -39,7 +39,7 @@ impl DeferredFullResolution {
         let resources = SceneResources::new(gpu, &pipelines, scene, 1)?;
         let shade = FullscreenPipeline {
             label: "shade full resolution",
-            fragment: shaders::CBR_SHADE_FULL_RESOLUTION,
+            fragment: shaders::CBR_SHADE_SAMPLES,
             entry_point: "fs_shade_full_resolution",
             targets: &[Some(HDR.into())],
             depth_stencil: None,
