@@ -120,13 +120,8 @@ fn chart_png(
     (x_range, y_range): (std::ops::Range<f64>, std::ops::Range<f64>),
     draw: impl FnOnce(&mut Chart) -> Result<()>,
 ) -> Result<()> {
-    register_font()?;
-    let (width, height) = (960u32, 640u32);
-    let mut pixels = vec![0u8; (width * height * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut pixels, (width, height)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
-        let mut chart = ChartBuilder::on(&root)
+    png(path, |root| {
+        let mut chart = ChartBuilder::on(root)
             .caption(title, ("sans-serif", 24))
             .margin(16)
             .x_label_area_size(48)
@@ -147,7 +142,22 @@ fn chart_png(
             .border_style(BLACK)
             .label_font(("sans-serif", 14))
             .draw()
-            .map_err(|e| anyhow!("{e}"))?;
+            .map_err(|e| anyhow!("{e}"))
+    })
+}
+
+/// Draws on a white 960×640 canvas with the kit's font and writes it to `path` as PNG.
+fn png(
+    path: &Path,
+    draw: impl FnOnce(&DrawingArea<BitMapBackend, plotters::coord::Shift>) -> Result<()>,
+) -> Result<()> {
+    register_font()?;
+    let (width, height) = (960u32, 640u32);
+    let mut pixels = vec![0u8; (width * height * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut pixels, (width, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
+        draw(&root)?;
         root.present().map_err(|e| anyhow!("{e}"))?;
     }
     let image = image::RgbImage::from_raw(width, height, pixels).context("plot buffer size")?;
@@ -159,7 +169,6 @@ fn chart_png(
 /// series through its points in step order with a distinct colour and marker, and the Pareto
 /// front (no point both faster and more exact) as a dashed black line.
 pub fn tradeoff(path: &Path, title: &str, x_label: &str, y_label: &str, points: &[PlotPoint]) -> Result<()> {
-    register_font()?;
     let finite: Vec<&PlotPoint> = points.iter().filter(|p| p.x.is_finite() && p.y.is_finite() && p.y >= 0.0).collect();
     let max_x = finite.iter().map(|p| p.x).fold(0.0, f64::max).max(1e-3) * 1.05;
     let smallest = finite.iter().map(|p| p.y).filter(|&y| y > 0.0).fold(f64::INFINITY, f64::min);
@@ -174,12 +183,8 @@ pub fn tradeoff(path: &Path, title: &str, x_label: &str, y_label: &str, points: 
             series.push(&p.series);
         }
     }
-    let (width, height) = (960u32, 640u32);
-    let mut pixels = vec![0u8; (width * height * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut pixels, (width, height)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
-        let mut chart = ChartBuilder::on(&root)
+    png(path, |root| {
+        let mut chart = ChartBuilder::on(root)
             .caption(title, ("sans-serif", 22))
             .margin(16)
             .x_label_area_size(48)
@@ -234,11 +239,8 @@ pub fn tradeoff(path: &Path, title: &str, x_label: &str, y_label: &str, points: 
             .border_style(BLACK)
             .label_font(("sans-serif", 13))
             .draw()
-            .map_err(|e| anyhow!("{e}"))?;
-        root.present().map_err(|e| anyhow!("{e}"))?;
-    }
-    let image = image::RgbImage::from_raw(width, height, pixels).context("plot buffer size")?;
-    image.save(path).with_context(|| format!("writing the plot {}", path.display()))
+            .map_err(|e| anyhow!("{e}"))
+    })
 }
 
 /// One line of a history plot: its points (x, y) and the x of points to mark (a driver change).
