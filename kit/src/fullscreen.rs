@@ -19,6 +19,11 @@ pub struct FullscreenPipeline<'a> {
 
 impl FullscreenPipeline<'_> {
     pub fn create(&self, gpu: &Gpu) -> wgpu::RenderPipeline {
+        self.create_specialised(gpu, &[])
+    }
+
+    /// The pipeline with the fragment stage's `override` constants set (name, value).
+    pub fn create_specialised(&self, gpu: &Gpu, constants: &[(&str, f64)]) -> wgpu::RenderPipeline {
         let vertex = shaders::FULLSCREEN.module(gpu);
         let fragment = self.fragment.module(gpu);
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -36,7 +41,7 @@ impl FullscreenPipeline<'_> {
             fragment: Some(wgpu::FragmentState {
                 module: &fragment,
                 entry_point: Some(self.entry_point),
-                compilation_options: Default::default(),
+                compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
                 targets: self.targets,
             }),
             multiview_mask: None,

@@ -14,17 +14,21 @@ struct Reconstruction {
     screen: vec2i,
     quarter: vec2i,
     phase: i32,
-    flags: u32,
+    // 1 where frame N−1 exists.
+    has_history: u32,
     depth_tolerance: f32,
     near: f32,
     far: f32,
 }
 
-const HAS_HISTORY: u32 = 1u;
-const CAMERA_MOVED: u32 = 2u;
-const OBJECT_MOTION: u32 = 4u;
-const FORWARD_BUFFER: u32 = 8u;
-const DEPTH_CHECK: u32 = 16u;
+// What the renderer's plan says the scene can need (kit/src/cbr/plan.rs), fixed per pipeline:
+// the work a scene cannot need is compiled out, not skipped at run time — a CPU rasteriser runs
+// both sides of a branch its lanes disagree on, and a branch on a buffer value in both.
+override camera_moves: bool;
+override objects_move: bool;
+override forward_buffer: bool;
+// CSO's depth check, else ASO.
+override depth_check: bool;
 
 const FROM_CURRENT: u32 = 0u;
 const FROM_HISTORY: u32 = 1u;
@@ -38,7 +42,7 @@ const FILLED_OFF_SCREEN: u32 = 6u;
 const QUARTER_PIXEL: f32 = 2.0;
 
 // The per-frame parameters are a read-only storage buffer, not a uniform: lavapipe specialises
-// a shader on uniform values that decide branches (the phase, the flags) and, with values that
+// a shader on uniform values that decide branches (the phase, the history) and, with values that
 // change every frame, kept every variant (1.6 MB a frame, measured by soak.cbr). Depth buffers are
 // bound as unfilterable float (`.r`): naga's GLSL output has no textureLoad on depth textures.
 @group(0) @binding(0) var<storage, read> rebuild: Reconstruction;
@@ -57,10 +61,6 @@ struct Rebuilt {
     motion: vec2f,
 }
 
-fn has(flag: u32) -> bool {
-    return (rebuild.flags & flag) != 0u;
-}
-
 fn on_screen(p: vec2i) -> bool {
     return all(p >= vec2i(0)) && all(p < rebuild.screen);
 }
@@ -69,7 +69,7 @@ fn on_screen(p: vec2i) -> bool {
 // transparent objects where the deferred path has them.
 fn frame_sample(colour: texture_2d<f32>, forward: texture_2d<f32>, texel: vec2i) -> vec3f {
     let shaded = textureLoad(colour, texel, 0).rgb;
-    if !has(FORWARD_BUFFER) {
+    if !forward_buffer {
         return shaded;
     }
     let over = textureLoad(forward, texel, 0);
@@ -140,8 +140,8 @@ fn reconstruct(p: vec2i) -> Rebuilt {
         return rebuilt(current_sample(own), FROM_CURRENT);
     }
 
-    // The cardinal neighbours are frame N's pixels: the fill, their mean linear depth, and the
-    // frontmost one, whose depth and motion stand in for this pixel's.
+    // The cardinal neighbours are frame N's pixels: the fill, and where anything can move, their
+    // mean linear depth and the frontmost one, whose depth and motion stand in for this pixel's.
     var fill_sum = vec3f(0.0);
     var depth_sum = 0.0;
     var count = 0.0;
@@ -157,32 +157,34 @@ fn reconstruct(p: vec2i) -> Rebuilt {
         if texel.x < 0 {
             continue;
         }
-        let depth = textureLoad(current_depth, texel, 0).r;
         fill_sum += compress_hdr(current_sample(texel));
-        depth_sum += linear_depth(depth, rebuild.near, rebuild.far);
         count += 1.0;
-        if depth < front_depth {
-            front_depth = depth;
-            front_texel = texel;
+        if camera_moves || objects_move {
+            let depth = textureLoad(current_depth, texel, 0).r;
+            depth_sum += linear_depth(depth, rebuild.near, rebuild.far);
+            if depth < front_depth {
+                front_depth = depth;
+                front_texel = texel;
+            }
         }
     }
     if count == 0.0 {
         return rebuilt(BACKGROUND, FILLED_OFF_SCREEN);
     }
     let fill = expand_hdr(fill_sum / count);
-    if !has(HAS_HISTORY) {
+    if rebuild.has_history == 0u {
         return rebuilt(fill, FILLED_FIRST_FRAME);
     }
 
     let centre = vec2f(p) + 0.5;
     var motion = vec2f(0.0);
     var moving_object = false;
-    if has(OBJECT_MOTION) {
+    if objects_move {
         let object = textureLoad(current_motion, front_texel, 0);
         moving_object = object.a > 0.0;
         motion = object.xy;
     }
-    if !moving_object && has(CAMERA_MOVED) {
+    if !moving_object && camera_moves {
         let world = unproject(centre, front_depth, vec2f(rebuild.screen), rebuild.world_from_clip);
         motion = centre - project_to_pixels(world, rebuild.previous_full_from_world, vec2f(rebuild.screen));
     }
@@ -208,11 +210,11 @@ fn missing(centre: vec2f, fill: vec3f, motion: vec2f, mean_depth: f32, moving_ob
     }
     // History that moved with an object where this pixel does not (or the reverse) is stale:
     // what it showed has left.
-    if has(OBJECT_MOTION) && (textureLoad(previous_motion, history, 0).a > 0.0) != moving_object {
+    if objects_move && (textureLoad(previous_motion, history, 0).a > 0.0) != moving_object {
         return rebuilt(fill, FILLED_DISOCCLUDED);
     }
     if length(motion) >= QUARTER_PIXEL - EDGE_SLACK {
-        if !has(DEPTH_CHECK) {
+        if !depth_check {
             return rebuilt(fill, FILLED_ASSUMED);
         }
         let then = linear_depth(textureLoad(previous_depth, history, 0).r, rebuild.near, rebuild.far);

@@ -106,10 +106,12 @@ impl Detection {
 
 pub const SOURCE: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
 
-/// The reconstruction's pipeline, outputs and the 1×1 placeholders bound where a frame has no
-/// motion or forward buffer (WGSL bindings are static; a flag keeps them unread).
+/// The reconstruction's pipeline, specialised on the renderer's plan and detection, its outputs,
+/// and the 1×1 placeholders bound where a frame has no motion or forward buffer (WGSL bindings are
+/// static; the specialisation keeps them unread).
 pub struct Reconstruction {
     pipeline: wgpu::RenderPipeline,
+    detection: Detection,
     pub colour: wgpu::Texture,
     pub source: wgpu::Texture,
     /// The motion each pixel used, for pictures (`Reconstruction::showing_motion`).
@@ -118,34 +120,37 @@ pub struct Reconstruction {
     placeholder_depth: wgpu::Texture,
 }
 
-const HAS_HISTORY: u32 = 1;
-const CAMERA_MOVED: u32 = 2;
-const OBJECT_MOTION: u32 = 4;
-const FORWARD_BUFFER: u32 = 8;
-const DEPTH_CHECK: u32 = 16;
-
 /// What one reconstruction reads.
 pub struct ReconstructionInputs<'a> {
     pub current: &'a CheckerboardFrame,
     pub previous: Option<&'a CheckerboardFrame>,
     pub view: &'a FrameView,
     pub phase: u32,
-    pub plan: &'a CheckerboardPlan,
-    pub detection: Detection,
     pub near_far: (f32, f32),
 }
 
+/// The shader's `override` constants: what the plan says the scene can need.
+fn specialisation(plan: &CheckerboardPlan, detection: Detection) -> [(&'static str, f64); 4] {
+    let on = |b: bool| f64::from(u8::from(b));
+    [
+        ("camera_moves", on(plan.camera_reprojection)),
+        ("objects_move", on(plan.object_motion)),
+        ("forward_buffer", on(plan.forward_buffer)),
+        ("depth_check", on(matches!(detection, Detection::Cso { .. }))),
+    ]
+}
+
 impl Reconstruction {
-    pub fn new(gpu: &Gpu, screen: (u32, u32)) -> Self {
-        Self::create(gpu, screen, false)
+    pub fn new(gpu: &Gpu, screen: (u32, u32), plan: &CheckerboardPlan, detection: Detection) -> Self {
+        Self::create(gpu, screen, plan, detection, false)
     }
 
     /// A reconstruction that also writes the motion each pixel used (pictures).
-    pub fn showing_motion(gpu: &Gpu, screen: (u32, u32)) -> Self {
-        Self::create(gpu, screen, true)
+    pub fn showing_motion(gpu: &Gpu, screen: (u32, u32), plan: &CheckerboardPlan, detection: Detection) -> Self {
+        Self::create(gpu, screen, plan, detection, true)
     }
 
-    fn create(gpu: &Gpu, screen: (u32, u32), with_motion: bool) -> Self {
+    fn create(gpu: &Gpu, screen: (u32, u32), plan: &CheckerboardPlan, detection: Detection, with_motion: bool) -> Self {
         let mut targets = vec![Some(HDR.into()), Some(SOURCE.into())];
         if with_motion {
             targets.push(Some(HDR.into()));
@@ -158,9 +163,10 @@ impl Reconstruction {
             depth_stencil: None,
             samples: 1,
         }
-        .create(gpu);
+        .create_specialised(gpu, &specialisation(plan, detection));
         Self {
             pipeline,
+            detection,
             colour: gpu.texture("reconstruction", screen, HDR, 1, TARGET_USAGE),
             source: gpu.texture("pixel sources", screen, SOURCE, 1, TARGET_USAGE),
             motion: with_motion.then(|| gpu.texture("reconstruction motion", screen, HDR, 1, TARGET_USAGE)),
@@ -178,20 +184,7 @@ impl Reconstruction {
     ) {
         let screen = (self.colour.width(), self.colour.height());
         let (qw, qh) = quarter_size(screen);
-        let plan = inputs.plan;
-        let mut flags = 0;
-        for (on, flag) in [
-            (inputs.previous.is_some(), HAS_HISTORY),
-            (plan.camera_reprojection, CAMERA_MOVED),
-            (plan.object_motion, OBJECT_MOTION),
-            (plan.forward_buffer, FORWARD_BUFFER),
-            (matches!(inputs.detection, Detection::Cso { .. }), DEPTH_CHECK),
-        ] {
-            if on {
-                flags |= flag;
-            }
-        }
-        let tolerance = match inputs.detection {
+        let tolerance = match self.detection {
             Detection::Cso { tolerance } => tolerance,
             Detection::Aso => 0.0,
         };
@@ -203,7 +196,7 @@ impl Reconstruction {
             qw,
             qh,
             inputs.phase,
-            flags,
+            u32::from(inputs.previous.is_some()),
             tolerance.to_bits(),
             inputs.near_far.0.to_bits(),
         ]);

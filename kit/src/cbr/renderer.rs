@@ -80,12 +80,13 @@ impl Checkerboard {
         let plan = CheckerboardPlan::new(scene, config.path, config.shading);
         let passes = FramePasses::new(gpu, scene, config.screen, plan, config.lod)?;
         let frames = [passes.frame_targets(gpu), passes.frame_targets(gpu)];
+        let reconstruction = Reconstruction::new(gpu, config.screen, &passes.plan, config.detection);
         Ok(Self {
             config,
             scene: scene.clone(),
             passes,
             frames,
-            reconstruction: Reconstruction::new(gpu, config.screen),
+            reconstruction,
             timer: GpuTimer::new(gpu, 16),
             last: None,
         })
@@ -93,7 +94,8 @@ impl Checkerboard {
 
     /// The same renderer, its reconstruction also writing the motion each pixel used.
     pub fn showing_motion(mut self, gpu: &Gpu) -> Self {
-        self.reconstruction = Reconstruction::showing_motion(gpu, self.config.screen);
+        self.reconstruction =
+            Reconstruction::showing_motion(gpu, self.config.screen, &self.passes.plan, self.config.detection);
         self
     }
 
@@ -124,8 +126,6 @@ impl Checkerboard {
                 previous: has_history.then_some(previous),
                 view: &view,
                 phase,
-                plan: &self.passes.plan,
-                detection: self.config.detection,
                 near_far: (self.scene.camera.near, self.scene.camera.far),
             };
             self.reconstruction.record(gpu, &mut encoder, &mut self.timer, &inputs);
