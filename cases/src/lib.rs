@@ -41,6 +41,7 @@ pub const ALL: &[Case] = &[
     oit::quads_converges::CASE,
     oit::post_filter::CASE,
     oit::weighted_blended::CASE,
+    oit::baselines_exact::CASE,
     oit::extremes::CASE,
     cbr::layout_mapping::CASE,
     cbr::sample_quadrants::CASE,

@@ -85,6 +85,7 @@ case_tests! {
     oit_quads_converges => "oit.quads.converges",
     oit_post_filter => "oit.post_filter",
     oit_weighted_blended => "oit.weighted_blended",
+    oit_baselines_exact => "oit.baselines.exact",
     oit_extremes => "oit.extremes",
     cbr_layout_mapping => "cbr.layout.mapping",
     cbr_sample_quadrants => "cbr.sample_quadrants",

@@ -1,6 +1,7 @@
 //! `oit.*`: order-independent transparency by stochastic alpha-to-coverage.
 
 pub mod a2c_transfer;
+pub mod baselines_exact;
 pub mod coverage_stats;
 pub mod extremes;
 pub mod order_independence;

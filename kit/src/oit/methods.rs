@@ -234,7 +234,9 @@ pub fn render_weighted(gpu: &Gpu, scene: &QuadScene, target: &ResolvedTarget, ti
 
 /// Depth peeling into `target` (single-sampled): returns the number of layers peeled. Each pass
 /// peels the nearest remaining fragment per pixel (by depth, then draw order) and blends it under
-/// the accumulation; an occlusion query around the peel stops the loop when nothing is left.
+/// the accumulation; an occlusion query around the peel stops the loop when nothing is left. A
+/// pixel's key (the last fragment peeled there) carries over to the next pass where nothing is
+/// peeled, so a pixel with fewer layers stays finished rather than starting again from the front.
 pub fn render_depth_peeling(
     gpu: &Gpu,
     scene: &QuadScene,
@@ -246,7 +248,8 @@ pub fn render_depth_peeling(
     let quads = QuadBatch::new(gpu, scene)?;
     let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
     let layer = gpu.texture("peeled layer", target.size, COLOUR, 1, usage);
-    let keys = [0, 1].map(|_| gpu.texture("peel key", target.size, wgpu::TextureFormat::Rg32Uint, 1, usage));
+    let key_usage = usage | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST;
+    let keys = [0, 1].map(|_| gpu.texture("peel key", target.size, wgpu::TextureFormat::Rg32Uint, 1, key_usage));
     let key_views = [&keys[0], &keys[1]].map(|k| k.create_view(&Default::default()));
     let layer_view = layer.create_view(&Default::default());
     let depth =
@@ -290,16 +293,26 @@ pub fn render_depth_peeling(
     gpu.submit(encoder);
     let mut layers = 0;
     while layers < max_layers {
-        let (previous, next) = (&key_views[(layers % 2) as usize], &key_views[((layers + 1) % 2) as usize]);
-        let group = bind_group(gpu, "peel", &peel, 0, &[wgpu::BindingResource::TextureView(previous)]);
+        let (previous, next) = ((layers % 2) as usize, ((layers + 1) % 2) as usize);
+        let group = bind_group(gpu, "peel", &peel, 0, &[wgpu::BindingResource::TextureView(&key_views[previous])]);
         let queries = OcclusionQueries::new(gpu, 1);
         let mut encoder = gpu.encoder("peel");
+        encoder.copy_texture_to_texture(
+            keys[previous].as_image_copy(),
+            keys[next].as_image_copy(),
+            keys[previous].size(),
+        );
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("peel"),
                 color_attachments: &[
                     attachments::colour(&layer_view, None, wgpu::Color::TRANSPARENT),
-                    attachments::colour(next, None, wgpu::Color::TRANSPARENT),
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: &key_views[next],
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+                    }),
                 ],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &depth_view,
