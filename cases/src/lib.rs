@@ -23,6 +23,7 @@ pub const ALL: &[Case] = &[
     kit::early_rejection::CASE,
     kit::determinism::CASE,
     kit::hash_values::CASE,
+    kit::deferred_gbuffer::CASE,
     kit::deferred_lighting::CASE,
     kit::mip_fetch::CASE,
     cps::lod_policy::CASE,

@@ -67,6 +67,7 @@ case_tests! {
     kit_early_rejection => "kit.early_rejection",
     kit_determinism => "kit.determinism",
     kit_hash_values => "kit.hash.values",
+    kit_deferred_gbuffer => "kit.deferred.gbuffer",
     kit_deferred_lighting => "kit.deferred.lighting",
     kit_fetch_per_pixel_level => "kit.fetch.per_pixel_level",
     cps_lod_policy => "cps.lod_policy",

@@ -1,5 +1,6 @@
 //! `kit.*`: conformance of the adapter features the techniques rely on.
 
+pub mod deferred_gbuffer;
 pub mod deferred_lighting;
 pub mod determinism;
 pub mod early_rejection;

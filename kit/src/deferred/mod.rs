@@ -5,6 +5,7 @@ pub mod gbuffer;
 pub mod lighting;
 pub mod lights;
 pub mod phong;
+pub mod surface_model;
 
 use anyhow::Result;
 use glam::Vec3;
