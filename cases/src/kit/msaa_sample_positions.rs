@@ -97,6 +97,11 @@ fn sample_positions(ctx: &mut Ctx, samples: u32) -> Result<Outcome> {
         let meanings: Vec<String> =
             shading.position.iter().zip(&positions).map(|(&p, s)| position_builtin_meaning(p, s)).collect();
         ctx.metric("position_builtin", &meanings);
+        // The sample's own position (Vulkan, Metal) or the pixel centre (D3D) are both fine; any
+        // other point is not where this fragment was shaded.
+        if meanings.iter().any(|m| m.starts_with("other")) {
+            problems.push(format!("under per-sample shading @builtin(position) reported {meanings:?}"));
+        }
     } else {
         problems.push(format!(
             "per-sample shading ran {} invocations with sample_index {:?}, expected {expected_indices:?}",
