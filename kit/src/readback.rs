@@ -1,5 +1,6 @@
 //! Texture and buffer read-back without compute passes: copies of copyable formats and aspects
-//! (colour, `Depth32Float`, the stencil aspect of `Depth24PlusStencil8`) into a mappable buffer.
+//! (colour, `Depth32Float`, the stencil aspect of `Depth24PlusStencil8`) into a mappable buffer,
+//! and depth through a fragment pass where the adapter cannot copy it.
 
 use std::time::Duration;
 
@@ -133,6 +134,55 @@ pub fn read_rgba8(gpu: &Gpu, texture: &wgpu::Texture) -> Result<image::RgbaImage
     }
     let texels = read_texture(gpu, texture, wgpu::TextureAspect::All, 0)?;
     image::RgbaImage::from_raw(texels.width, texels.height, texels.bytes).context("texel count does not match size")
+}
+
+/// Reads a single-sampled `Depth32Float` texture's values: by copy where the adapter can copy
+/// depth to a buffer, else through a fragment pass writing each value's bits
+/// (`shaders/kit/depth_bits.wgsl`). The texture needs `TEXTURE_BINDING` for the second.
+pub fn read_depth(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Vec<f32>> {
+    if texture.format() != wgpu::TextureFormat::Depth32Float {
+        bail!("read_depth needs Depth32Float, got {:?}", texture.format());
+    }
+    let copies = gpu.adapter.get_downlevel_capabilities().flags;
+    if copies.contains(wgpu::DownlevelFlags::DEPTH_TEXTURE_AND_BUFFER_COPIES) {
+        return Ok(read_texture(gpu, texture, wgpu::TextureAspect::All, 0)?.as_f32());
+    }
+    let format = wgpu::TextureFormat::R32Uint;
+    let size = (texture.width(), texture.height());
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+    let bits = gpu.texture("depth bits", size, format, 1, usage);
+    let pipeline = crate::fullscreen::FullscreenPipeline {
+        label: "depth bits",
+        fragment: crate::shaders::DEPTH_BITS,
+        entry_point: "fs_depth_bits",
+        targets: &[Some(format.into())],
+        depth_stencil: None,
+        samples: 1,
+    }
+    .create(gpu);
+    let depth_view = texture
+        .create_view(&wgpu::TextureViewDescriptor { aspect: wgpu::TextureAspect::DepthOnly, ..Default::default() });
+    let group = crate::fullscreen::bind_group(
+        gpu,
+        "depth bits",
+        &pipeline,
+        0,
+        &[wgpu::BindingResource::TextureView(&depth_view)],
+    );
+    let target = bits.create_view(&Default::default());
+    let mut encoder = gpu.encoder("depth bits");
+    {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("depth bits"),
+            color_attachments: &[crate::attachments::colour(&target, None, wgpu::Color::TRANSPARENT)],
+            ..Default::default()
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+    gpu.submit(encoder);
+    Ok(read_texture(gpu, &bits, wgpu::TextureAspect::All, 0)?.as_f32())
 }
 
 /// Reads the stencil aspect of a single-sampled depth-stencil texture.

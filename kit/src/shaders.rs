@@ -44,6 +44,7 @@ shader_files! {
     NOISE_TRIANGLES => "kit/noise_triangles.wgsl",
     MIP_FETCH => "kit/mip_fetch.wgsl",
     HASH_VALUES => "kit/hash_values.wgsl",
+    DEPTH_BITS => "kit/depth_bits.wgsl",
     GBUFFER => "deferred/gbuffer.wgsl",
     DEFERRED_LIGHTING => "deferred/lighting.wgsl",
     CPS_EDGE_MASK => "cps/edge_mask.wgsl",

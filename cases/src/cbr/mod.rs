@@ -1,5 +1,6 @@
 //! `cbr.*`: checkerboard rendering.
 
+pub mod deferred_full_resolution;
 pub mod exact_sources;
 pub mod extremes;
 pub mod jitter_coverage;

@@ -22,8 +22,9 @@ pub struct DeferredFullResolution {
     resources: SceneResources,
     scene: CheckerboardScene,
     screen: (u32, u32),
-    gbuffer: [wgpu::Texture; 2],
-    depth: wgpu::Texture,
+    /// Normal + shininess, albedo + specular weight (read by `cbr.deferred_full_resolution`).
+    pub gbuffer: [wgpu::Texture; 2],
+    pub depth: wgpu::Texture,
     pub colour: wgpu::Texture,
     shade: wgpu::RenderPipeline,
     pub timer: GpuTimer,

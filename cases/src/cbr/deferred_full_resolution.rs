@@ -1,0 +1,148 @@
+//! `cbr.deferred_full_resolution`: the baseline deferred checkerboarding is timed against
+//! (`DeferredFullResolution`: a full-resolution G-buffer, then `fs_shade_full_resolution` in
+//! `shaders/cbr/shade_samples.wgsl` at every pixel) shades each pixel as its definition says: the
+//! Phong of its G-buffer sample at the world point its depth puts under the pixel centre. A
+//! baseline that shaded the wrong point would make every deferred speed-up and error figure
+//! quote a different frame. The expectation is the CPU Phong (`fragkit::deferred::phong`, f64,
+//! the scene's own light list) of the read-back normal and albedo at the world point unprojected
+//! in f64 from the read-back depth and the frame's view-projection. Bound: the Phong model's
+//! derived bound, plus what the GPU's f32 unprojection may move the point by — each homogeneous
+//! component off by the f32 inverse's own error (computed here against the f64 inverse) and 2^-21
+//! of the sum of its terms' magnitudes (seven roundings), then divided by w, whose terms cancel
+//! far from the eye — taken as the largest change of the CPU shading over a step of that size
+//! along each axis, summed over the axes. Unlit surfaces must give their albedo and
+//! empty pixels the background, within one f16 ulp. The scene is the bench's textured corridor
+//! without its glass panes (transparents are drawn forward on top, by the forward path's own
+//! pipeline, which the reconstruction cases check).
+
+use anyhow::Result;
+use fragkit::cbr::deferred_full_resolution::DeferredFullResolution;
+use fragkit::cbr::scene::{Motion, textured_corridor};
+use fragkit::deferred::phong::{ShadedSample, Surface, shade};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::image_compare::{error_mask, side_by_side};
+use fragkit::readback::{read_depth, read_texture};
+use fragkit::tonemap::to_display;
+use glam::{DMat4, DVec3, DVec4};
+
+pub const CASE: Case = Case {
+    name: "cbr.deferred_full_resolution",
+    summary: "the deferred full-resolution baseline shades each pixel's G-buffer sample at its own centre",
+    requires: wgpu::Features::empty(),
+    params: &[
+        ParamSpec { name: "size", kind: ParamKind::SizesFrom(1), default: "96x64", help: "screen size" },
+        ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "32", help: "point lights" },
+    ],
+    sweep: &[
+        Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (160, 120) } },
+        Sweep { param: "lights", range: SweepRange::Count(1, 4096) },
+    ],
+    run,
+};
+
+/// Rounding of one row of the f32 unprojection (four products, three sums: seven roundings of
+/// half an ulp) against the sum of its terms' magnitudes.
+const PRODUCT_ROUNDING: f64 = 1.0 / (1u64 << 21) as f64;
+
+/// How far, per axis, the GPU's f32 unprojection of `ndc` may land from the exact point: each
+/// homogeneous component off by the f32 inverse's own error (`gpu` against `exact`, known here)
+/// and the product's rounding, then divided by w (whose terms cancel far from the eye, where the
+/// depth nears 1).
+fn unprojection_error(gpu: &DMat4, exact: &DMat4, ndc: DVec4) -> DVec3 {
+    let row_error = |r: usize| {
+        (0..4)
+            .map(|c| {
+                let (g, e) = (gpu.col(c)[r], exact.col(c)[r]);
+                ((g - e) * ndc[c]).abs() + PRODUCT_ROUNDING * (g * ndc[c]).abs()
+            })
+            .sum::<f64>()
+    };
+    let clip = *exact * ndc;
+    let point = clip.truncate() / clip.w;
+    let w_error = row_error(3);
+    let axis = |r: usize| (row_error(r) + point[r].abs() * w_error) / (clip.w.abs() - w_error);
+    DVec3::new(axis(0), axis(1), axis(2))
+}
+
+fn f32x4(v: DVec3, w: f32) -> [f32; 4] {
+    [v.x as f32, v.y as f32, v.z as f32, w]
+}
+
+fn run(ctx: &mut Ctx) -> Result<Outcome> {
+    let size = ctx.params.sizes("size")?[0];
+    let lights = u32::try_from(ctx.params.count("lights")?)?;
+    let mut scene = textured_corridor(5, lights, Motion::Static);
+    scene.draws.retain(|draw| !draw.transparent);
+
+    let mut baseline = DeferredFullResolution::new(ctx.gpu, &scene, size)?;
+    let mut encoder = ctx.gpu.encoder("deferred full resolution");
+    baseline.record(ctx.gpu, &mut encoder, 0);
+    ctx.gpu.submit(encoder);
+    let all = wgpu::TextureAspect::All;
+    let colour = read_texture(ctx.gpu, &baseline.colour, all, 0)?.as_f16();
+    let normal = read_texture(ctx.gpu, &baseline.gbuffer[0], all, 0)?.as_f16();
+    let albedo = read_texture(ctx.gpu, &baseline.gbuffer[1], all, 0)?.bytes;
+    let depth = read_depth(ctx.gpu, &baseline.depth)?;
+
+    // Expected: the Phong of each sample at the point under its pixel centre.
+    let view = scene.frame_view(0, size);
+    let world_from_clip = view.full_from_world.as_dmat4().inverse();
+    // What the shade pass multiplies by: the f32 inverse (`shading_uniform`).
+    let gpu_world_from_clip = view.full_from_world.inverse().as_dmat4();
+    let (w, h) = (f64::from(size.0), f64::from(size.1));
+    let mut expected = Vec::with_capacity(depth.len());
+    for (i, &d) in depth.iter().enumerate() {
+        let n = &normal[4 * i..4 * i + 4];
+        let a: [f32; 4] = std::array::from_fn(|c| f32::from(albedo[4 * i + c]) / 255.0);
+        let surface = |p: DVec3, drawn: bool| Surface {
+            position: f32x4(p, if drawn { 1.0 } else { 0.0 }),
+            normal: [n[0], n[1], n[2], n[3]],
+            albedo: a,
+        };
+        if n[..3].iter().all(|&v| v == 0.0) {
+            expected.push(shade(&surface(DVec3::ZERO, false), view.eye, &scene.lights));
+            continue;
+        }
+        if n[3] < 0.0 {
+            let colour = [0, 1, 2].map(|c| f64::from(a[c]));
+            expected.push(ShadedSample { colour, bound: colour.map(|v| v.abs() / 1024.0 + 1e-7) });
+            continue;
+        }
+        let (x, y) = ((i as u32 % size.0) as f64 + 0.5, (i as u32 / size.0) as f64 + 0.5);
+        let ndc = DVec4::new(2.0 * x / w - 1.0, 1.0 - 2.0 * y / h, f64::from(d), 1.0);
+        let clip = world_from_clip * ndc;
+        let point = clip.truncate() / clip.w;
+        let at = |p: DVec3| shade(&surface(p, true), view.eye, &scene.lights);
+        let centre = at(point);
+        let step = unprojection_error(&gpu_world_from_clip, &world_from_clip, ndc);
+        let mut bound = centre.bound;
+        for (axis, step) in [(DVec3::X, step.x), (DVec3::Y, step.y), (DVec3::Z, step.z)] {
+            let moved = [at(point + axis * step), at(point - axis * step)];
+            for (c, channel) in bound.iter_mut().enumerate() {
+                let change =
+                    moved.iter().map(|m| (m.colour[c] - centre.colour[c]).abs() + m.bound[c] - centre.bound[c]);
+                *channel += change.fold(0.0, f64::max);
+            }
+        }
+        expected.push(ShadedSample { colour: centre.colour, bound });
+    }
+
+    let gpu = colour.chunks_exact(4);
+    let wrong: Vec<bool> = expected.iter().zip(gpu.clone()).map(|(e, g)| !e.admits(g)).collect();
+    let worst = expected.iter().zip(gpu).map(|(e, g)| e.error_in_bounds(g)).fold(0.0, f64::max);
+    let wrong_count = wrong.iter().filter(|&&w| w).count();
+    ctx.metric("pixels_beyond_bound", wrong_count);
+    ctx.metric("worst_error_in_bounds", worst);
+    if wrong_count == 0 {
+        return Ok(Outcome::Pass);
+    }
+    let reference: Vec<f32> =
+        expected.iter().flat_map(|e| [e.colour[0] as f32, e.colour[1] as f32, e.colour[2] as f32, 1.0]).collect();
+    let reference = to_display(size.0, size.1, &reference)?;
+    let result = to_display(size.0, size.1, &colour)?;
+    ctx.evidence_image("comparison", &side_by_side(&result, &reference, &error_mask(&reference, &wrong)))?;
+    Ok(Outcome::Fail(format!(
+        "{wrong_count} of {} pixels differ from the CPU Phong at their own centre beyond the bound (worst {worst:.1}x)",
+        size.0 * size.1
+    )))
+}
