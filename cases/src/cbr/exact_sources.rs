@@ -6,7 +6,10 @@
 //! surface (the reconstruction reads motion and depth from the neighbours, so at an edge it cannot
 //! know), CSO must send the disoccluded set — exactly — to the fill, take every other pixel from
 //! the right history texel (its colour is its rect's, within f16 rounding), and report off-screen
-//! sources; sampled pixels must hold their rect's colour. Forward and deferred.
+//! sources; sampled pixels must hold their rect's colour. ASO must send every pixel that moved
+//! at least a quarter-resolution pixel to the fill as assumed missing, unless its history is
+//! stale (moved with an object where the pixel does not), and otherwise agree with CSO. Forward
+//! and deferred, each with CSO and ASO.
 
 use std::collections::BTreeMap;
 
@@ -14,7 +17,7 @@ use anyhow::Result;
 use fragkit::cbr::measure::{read_hdr, read_sources};
 use fragkit::cbr::sampling::{CheckerboardPath, sampled_pixels};
 use fragkit::cbr::scene::{PixelRect, crossing_rects};
-use fragkit::cbr::{Checkerboard, CheckerboardConfig, PixelSource, Shading};
+use fragkit::cbr::{Checkerboard, CheckerboardConfig, Detection, PixelSource, Shading};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 
 pub const CASE: Case = Case {
@@ -48,9 +51,19 @@ fn surface(rects: &[PixelRect], x: i64, y: i64, frame: u32) -> Option<usize> {
         .min_by(|&a, &b| rects[a].distance.total_cmp(&rects[b].distance))
 }
 
+/// A quarter-resolution pixel, less the reconstruction's edge slack (`QUARTER_PIXEL - EDGE_SLACK`
+/// in reconstruct.wgsl): motion at least this long is judged by CSO's depth test or ASO's
+/// assumption.
+const QUARTER_PIXEL: f64 = 2.0 - 1.0 / 64.0;
+
 /// What the CPU expects of every pixel (row-major) in `frame`, None where the reconstruction
 /// cannot know (a missing pixel whose neighbours show other surfaces).
-fn expected_sources(rects: &[PixelRect], screen: (u32, u32), frame: u32) -> Vec<Option<PixelSource>> {
+fn expected_sources(
+    rects: &[PixelRect],
+    screen: (u32, u32),
+    frame: u32,
+    detection: Detection,
+) -> Vec<Option<PixelSource>> {
     let (now, before) = (sampled_pixels(screen, frame % 2), sampled_pixels(screen, 1 - frame % 2));
     let on_screen = |x: i64, y: i64| (0..i64::from(screen.0)).contains(&x) && (0..i64::from(screen.1)).contains(&y);
     let index = |x: i64, y: i64| (y * i64::from(screen.0) + x) as usize;
@@ -71,10 +84,20 @@ fn expected_sources(rects: &[PixelRect], screen: (u32, u32), frame: u32) -> Vec<
             PixelSource::OffScreen
         } else if !before[index(bx, by)] {
             if now[index(bx, by)] { PixelSource::JitterCancelled } else { PixelSource::OffScreen }
-        } else if surface(rects, bx, by, frame - 1) != Some(shown) {
-            PixelSource::Disoccluded
         } else {
-            PixelSource::History
+            let then = surface(rects, bx, by, frame - 1);
+            let moving = |rect: Option<usize>| rect.is_some_and(|i| rects[i].velocity != (0, 0));
+            let far = f64::from(vx).hypot(f64::from(vy)) >= QUARTER_PIXEL;
+            if moving(then) != moving(Some(shown)) {
+                // History that moved with an object where this pixel does not (or the reverse).
+                PixelSource::Disoccluded
+            } else if far && detection == Detection::Aso {
+                PixelSource::Assumed
+            } else if then != Some(shown) {
+                PixelSource::Disoccluded
+            } else {
+                PixelSource::History
+            }
         })
     };
     (0..i64::from(screen.1))
@@ -90,15 +113,17 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let frames = u32::try_from(ctx.params.count("frames")?)?;
     let last = frames - 1;
     let (scene, rects) = crossing_rects(screen);
-    // Expected: the CPU's account of every pixel whose source it can know (the same for both shadings).
-    let expected = expected_sources(&rects, screen, last);
-    let mut tally: BTreeMap<String, u64> = BTreeMap::new();
-    for source in &expected {
-        *tally.entry(source.map_or("edge_unknowable", PixelSource::name).into()).or_default() += 1;
-    }
     let mut problems = Vec::new();
-    for shading in Shading::ALL {
-        let config = CheckerboardConfig::new(screen, path, shading);
+    for (shading, detection) in
+        Shading::ALL.into_iter().flat_map(|s| [(s, Detection::DEFAULT_CSO), (s, Detection::Aso)])
+    {
+        // Expected: the CPU's account of every pixel whose source it can know.
+        let expected = expected_sources(&rects, screen, last, detection);
+        let mut tally: BTreeMap<String, u64> = BTreeMap::new();
+        for source in &expected {
+            *tally.entry(source.map_or("edge_unknowable", PixelSource::name).into()).or_default() += 1;
+        }
+        let config = CheckerboardConfig { detection, ..CheckerboardConfig::new(screen, path, shading) };
         let mut checkerboard = Checkerboard::new(ctx.gpu, &scene, config)?;
         for frame in 0..frames {
             checkerboard.render(ctx.gpu, frame)?;
@@ -122,7 +147,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 }
             }
         }
-        let key = shading.name();
+        let key = format!("{}.{}", shading.name(), detection.name());
         ctx.metric(&format!("{key}.expected"), &tally);
         ctx.metric(&format!("{key}.wrong"), wrong.len());
         if !wrong.is_empty() {
