@@ -18,11 +18,9 @@
 use anyhow::Result;
 use fragkit::cbr::deferred_full_resolution::DeferredFullResolution;
 use fragkit::cbr::scene::{Motion, textured_corridor};
-use fragkit::deferred::phong::{ShadedSample, Surface, shade};
+use fragkit::deferred::phong::{PhongComparison, ShadedSample, Surface, shade};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
-use fragkit::image_compare::{error_mask, side_by_side};
 use fragkit::readback::{read_depth, read_texture};
-use fragkit::tonemap::to_display;
 use glam::{DMat4, DVec3, DVec4};
 
 pub const CASE: Case = Case {
@@ -127,22 +125,17 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         expected.push(ShadedSample { colour: centre.colour, bound });
     }
 
-    let gpu = colour.chunks_exact(4);
-    let wrong: Vec<bool> = expected.iter().zip(gpu.clone()).map(|(e, g)| !e.admits(g)).collect();
-    let worst = expected.iter().zip(gpu).map(|(e, g)| e.error_in_bounds(g)).fold(0.0, f64::max);
-    let wrong_count = wrong.iter().filter(|&&w| w).count();
-    ctx.metric("pixels_beyond_bound", wrong_count);
-    ctx.metric("worst_error_in_bounds", worst);
-    if wrong_count == 0 {
+    let comparison = PhongComparison::new(&expected, &colour);
+    ctx.metric("pixels_beyond_bound", comparison.wrong_count);
+    ctx.metric("worst_error_in_bounds", comparison.worst);
+    if comparison.wrong_count == 0 {
         return Ok(Outcome::Pass);
     }
-    let reference: Vec<f32> =
-        expected.iter().flat_map(|e| [e.colour[0] as f32, e.colour[1] as f32, e.colour[2] as f32, 1.0]).collect();
-    let reference = to_display(size.0, size.1, &reference)?;
-    let result = to_display(size.0, size.1, &colour)?;
-    ctx.evidence_image("comparison", &side_by_side(&result, &reference, &error_mask(&reference, &wrong)))?;
+    ctx.evidence_image("comparison", &comparison.evidence(size, &expected, &colour)?)?;
     Ok(Outcome::Fail(format!(
-        "{wrong_count} of {} pixels differ from the CPU Phong at their own centre beyond the bound (worst {worst:.1}x)",
-        size.0 * size.1
+        "{} of {} pixels differ from the CPU Phong at their own centre beyond the bound (worst {:.1}x)",
+        comparison.wrong_count,
+        size.0 * size.1,
+        comparison.worst
     )))
 }

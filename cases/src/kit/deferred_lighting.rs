@@ -8,12 +8,10 @@
 use anyhow::Result;
 use fragkit::deferred::DeferredInputs;
 use fragkit::deferred::lighting::light_full_resolution;
-use fragkit::deferred::phong::{read_surfaces, shade};
+use fragkit::deferred::phong::{PhongComparison, read_surfaces, shade};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
-use fragkit::image_compare::{error_mask, side_by_side};
 use fragkit::readback::read_texture;
 use fragkit::scene::corridor::corridor;
-use fragkit::tonemap::to_display;
 
 pub const CASE: Case = Case {
     name: "kit.deferred.lighting",
@@ -41,24 +39,20 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     // Expected: Phong of each read-back sample under the scene's lights, with its error bound.
     let surfaces = read_surfaces(ctx.gpu, &inputs.gbuffer)?;
     let expected: Vec<_> = surfaces.iter().map(|s| shade(s, scene.camera.eye, &scene.lights)).collect();
-    let wrong: Vec<bool> = expected.iter().zip(lit.chunks_exact(4)).map(|(e, g)| !e.admits(g)).collect();
-    let worst = expected.iter().zip(lit.chunks_exact(4)).map(|(e, g)| e.error_in_bounds(g)).fold(0.0, f64::max);
-    let wrong_count = wrong.iter().filter(|&&w| w).count();
+    let comparison = PhongComparison::new(&expected, &lit);
     let surface_pixels = surfaces.iter().filter(|s| s.position[3] != 0.0).count();
     ctx.metric("surface_pixels", surface_pixels);
-    ctx.metric("pixels_beyond_bound", wrong_count);
-    ctx.metric("worst_error_in_bounds", worst);
+    ctx.metric("pixels_beyond_bound", comparison.wrong_count);
+    ctx.metric("worst_error_in_bounds", comparison.worst);
 
-    if wrong_count == 0 {
+    if comparison.wrong_count == 0 {
         return Ok(Outcome::Pass);
     }
-    let reference: Vec<f32> =
-        expected.iter().flat_map(|e| [e.colour[0] as f32, e.colour[1] as f32, e.colour[2] as f32, 1.0]).collect();
-    let reference = to_display(size.0, size.1, &reference)?;
-    let result = to_display(size.0, size.1, &lit)?;
-    ctx.evidence_image("comparison", &side_by_side(&result, &reference, &error_mask(&reference, &wrong)))?;
+    ctx.evidence_image("comparison", &comparison.evidence(size, &expected, &lit)?)?;
     Ok(Outcome::Fail(format!(
-        "{wrong_count} of {} pixels differ from the CPU Phong beyond their derived bound (worst {worst:.1}x the bound)",
-        size.0 * size.1
+        "{} of {} pixels differ from the CPU Phong beyond their derived bound (worst {:.1}x the bound)",
+        comparison.wrong_count,
+        size.0 * size.1,
+        comparison.worst
     )))
 }

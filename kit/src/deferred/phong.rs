@@ -18,8 +18,10 @@ use glam::DVec3;
 
 use super::gbuffer::Gbuffer;
 use crate::gpu::Gpu;
+use crate::image_compare::{error_mask, side_by_side};
 use crate::readback::read_texture;
 use crate::scene::corridor::Light;
+use crate::tonemap::to_display;
 
 /// `BACKGROUND` in `lighting.wgsl`: where no surface was drawn.
 pub const BACKGROUND: [f32; 3] = [0.02, 0.025, 0.035];
@@ -71,6 +73,33 @@ impl ShadedSample {
     /// The worst channel's error in units of its bound (≤ 1 passes).
     pub fn error_in_bounds(&self, gpu: &[f32]) -> f64 {
         (0..3).map(|c| (f64::from(gpu[c]) - self.colour[c]).abs() / self.bound[c]).fold(0.0, f64::max)
+    }
+}
+
+/// A lit `Rgba16Float` image (read back as f32 RGBA) against one expectation per pixel.
+pub struct PhongComparison {
+    /// Per pixel: beyond its bound.
+    pub wrong: Vec<bool>,
+    pub wrong_count: usize,
+    /// The worst channel error in units of its bound.
+    pub worst: f64,
+}
+
+impl PhongComparison {
+    pub fn new(expected: &[ShadedSample], gpu_rgba: &[f32]) -> Self {
+        let pixels = || expected.iter().zip(gpu_rgba.chunks_exact(4));
+        let wrong: Vec<bool> = pixels().map(|(e, g)| !e.admits(g)).collect();
+        let worst = pixels().map(|(e, g)| e.error_in_bounds(g)).fold(0.0, f64::max);
+        Self { wrong_count: wrong.iter().filter(|&&w| w).count(), wrong, worst }
+    }
+
+    /// The image, the expectation and the pixels beyond their bound, side by side.
+    pub fn evidence(&self, size: (u32, u32), expected: &[ShadedSample], gpu_rgba: &[f32]) -> Result<image::RgbaImage> {
+        let reference: Vec<f32> =
+            expected.iter().flat_map(|e| [e.colour[0] as f32, e.colour[1] as f32, e.colour[2] as f32, 1.0]).collect();
+        let reference = to_display(size.0, size.1, &reference)?;
+        let result = to_display(size.0, size.1, gpu_rgba)?;
+        Ok(side_by_side(&result, &reference, &error_mask(&reference, &self.wrong)))
     }
 }
 
