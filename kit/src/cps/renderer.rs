@@ -98,7 +98,8 @@ pub struct CpsRenderer {
     lod_view: wgpu::TextureView,
     /// OR-reduced edge flags (content policy only).
     pub edges: Option<MipChain>,
-    /// OR-reduced LOD-present bits: bit l of mip l texel q = some pixel of q's block has LOD l.
+    /// OR-reduced LOD-present bits: bit l of mip l texel q = some pixel of q's block has LOD l;
+    /// only the even mips are built (an odd level's marks OR four texels of the mip below).
     pub mask: MipChain,
     /// Every level's stencil, side by side (absent for the naive comparison).
     pub stencil: Option<wgpu::Texture>,
@@ -114,10 +115,12 @@ pub struct CpsRenderer {
     lod_pipeline: wgpu::RenderPipeline,
     /// Edge detection (content policy only).
     edge_pipeline: Option<wgpu::RenderPipeline>,
-    /// OR-reduces a mip chain's level from the finer one: the edge and LOD-present pyramids.
+    /// OR-reduces a mip chain's level from the one below (the edge pyramid), and from the one
+    /// two below (the LOD-present pyramid: even mips only).
     mask_reduce_pipeline: wgpu::RenderPipeline,
-    /// Stencil marks of every level, from the finished mask pyramid.
-    mark_pipeline: Option<wgpu::RenderPipeline>,
+    mask_reduce_two_levels_pipeline: wgpu::RenderPipeline,
+    /// Stencil marks of the even and of the odd levels, from the finished mask pyramid.
+    mark_pipelines: Option<[wgpu::RenderPipeline; 2]>,
     light_pipeline: wgpu::RenderPipeline,
     composite_pipeline: wgpu::RenderPipeline,
 }
@@ -164,21 +167,23 @@ impl CpsRenderer {
                 None,
             ),
         };
-        let mark_pipeline = plan.stencil_pyramid.then(|| {
-            FullscreenPipeline {
-                label: "stencil mark",
-                fragment: shaders::CPS_STENCIL_MARK,
-                entry_point: "fs_stencil_mark",
-                // Stencil only: no colour target.
-                targets: &[],
-                depth_stencil: Some(stencil_state(
-                    STENCIL,
-                    wgpu::CompareFunction::Always,
-                    wgpu::StencilOperation::Replace,
-                )),
-                samples: 1,
-            }
-            .create(gpu)
+        let mark_pipelines = plan.stencil_pyramid.then(|| {
+            ["fs_stencil_mark_even", "fs_stencil_mark_odd"].map(|entry_point| {
+                FullscreenPipeline {
+                    label: "stencil mark",
+                    fragment: shaders::CPS_STENCIL_MARK,
+                    entry_point,
+                    // Stencil only: no colour target.
+                    targets: &[],
+                    depth_stencil: Some(stencil_state(
+                        STENCIL,
+                        wgpu::CompareFunction::Always,
+                        wgpu::StencilOperation::Replace,
+                    )),
+                    samples: 1,
+                }
+                .create(gpu)
+            })
         });
         let level_draws = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("level draws"),
@@ -214,7 +219,14 @@ impl CpsRenderer {
                 Some(MASK),
                 None,
             ),
-            mark_pipeline,
+            mask_reduce_two_levels_pipeline: fullscreen(
+                "mask reduce two levels",
+                shaders::CPS_MASK_REDUCE,
+                "fs_mask_reduce_two_levels",
+                Some(MASK),
+                None,
+            ),
+            mark_pipelines,
             light_pipeline: fullscreen(
                 "light level",
                 shaders::CPS_LIGHTING,
@@ -314,26 +326,28 @@ impl CpsRenderer {
         timer.read(gpu).map(drop)
     }
 
-    /// Reduces `chain` from mip 1 to the top, one pass a level (labelled `label` and the level):
-    /// texel q ORs its 2×2 children.
+    /// Reduces `chain` upwards `step` mips a pass (labelled `label` and the mip): texel q ORs its
+    /// children in the mip `step` below — every mip (step 1), or only the even ones (step 2).
     fn record_or_reduce(
         &self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
         chain: &MipChain,
+        step: usize,
         label: &str,
         timer: &mut GpuTimer,
     ) {
-        for level in 1..self.plan.levels() as usize {
-            let finer = wgpu::BindingResource::TextureView(&chain.level_views[level - 1]);
-            let group = bind_group(gpu, label, &self.mask_reduce_pipeline, 0, &[finer]);
+        let pipeline = if step == 1 { &self.mask_reduce_pipeline } else { &self.mask_reduce_two_levels_pipeline };
+        for level in (step..self.plan.levels() as usize).step_by(step) {
+            let finer = wgpu::BindingResource::TextureView(&chain.level_views[level - step]);
+            let group = bind_group(gpu, label, pipeline, 0, &[finer]);
             let targets = PassTargets {
                 colours: &[&chain.level_views[level]],
                 stencil: None,
                 viewport: self.plan.level_extents[level],
             };
             let mut pass = begin(encoder, &format!("{label} {level}"), targets, timer, None);
-            pass.set_pipeline(&self.mask_reduce_pipeline);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &group, &[]);
             pass.draw(0..3, 0..1);
         }
@@ -412,14 +426,14 @@ impl CpsRenderer {
             pass.set_bind_group(0, &group, &[]);
             pass.draw(0..3, 0..1);
         }
-        self.record_or_reduce(gpu, encoder, edges, "edges", timer);
+        self.record_or_reduce(gpu, encoder, edges, 1, "edges", timer);
     }
 
     /// The LOD-present mask's coarser levels, one pass a level (each ORing the finer one); then
     /// every level's stencil in its atlas, one pass, one draw a level.
     fn record_stencil_pyramid(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
-        self.record_or_reduce(gpu, encoder, &self.mask, "pyramid", timer);
-        let (Some(mark), Some(stencil)) = (&self.mark_pipeline, &self.stencil) else { return };
+        let (Some(marks), Some(stencil)) = (&self.mark_pipelines, &self.stencil) else { return };
+        self.record_or_reduce(gpu, encoder, &self.mask, 2, "pyramid", timer);
         let stencil_view = stencil.create_view(&Default::default());
         let targets = PassTargets {
             colours: &[],
@@ -427,9 +441,10 @@ impl CpsRenderer {
             viewport: self.plan.atlas.size,
         };
         let mut pass = begin(encoder, "pyramid marks", targets, timer, None);
-        pass.set_pipeline(mark);
         pass.set_stencil_reference(1);
         for level in 0..self.plan.levels() as usize {
+            let mark = &marks[level % 2];
+            pass.set_pipeline(mark);
             let resources =
                 [wgpu::BindingResource::TextureView(&self.mask.all), self.level_uniforms[level].as_entire_binding()];
             pass.set_bind_group(0, &bind_group(gpu, "stencil mark", mark, 0, &resources), &[]);
