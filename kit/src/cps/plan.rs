@@ -28,6 +28,29 @@ pub struct Plan {
     pub edge_pyramid: bool,
     /// Where each level lies in the stencil and lit atlases.
     pub atlas: LevelAtlas,
+    /// Per level, the texels (x, y, width, height within the level) that can be needed: the whole
+    /// level, or under the foveated policy with a stencil pyramid the box around the disk the
+    /// level's pixels lie in. The marks and the lighting draw only there (scissor): the rest of a
+    /// level's rect could only be discarded or stencil-rejected, texel by texel.
+    pub level_bounds: Vec<(u32, u32, u32, u32)>,
+}
+
+/// The texels of `level` (below the top) that can hold a pixel of that level under the foveated
+/// policy: level(d) = floor(log2(1 + d / r)) ≤ level only for d < r (2^(level+1) − 1), so its
+/// pixels lie in that disk around the focus — widened by 2^-16 of it and a pixel for the GPU's
+/// f32 log2 and distance (whose errors are within 2^-20) — and its texels in the disk's box.
+fn foveated_bounds(screen: (u32, u32), focus: (f32, f32), inner_radius: f32, level: u32) -> (u32, u32, u32, u32) {
+    let radius = f64::from(inner_radius.max(1e-3)) * (f64::from(2u32 << level) - 1.0);
+    let reach = radius * (1.0 + 1.0 / 65536.0) + 1.0;
+    // Pixel centres x + 1/2 within `reach` of the focus, on screen, then their texels.
+    let span = |centre: f64, extent: u32| {
+        let first = (centre - reach - 0.5).ceil().clamp(0.0, f64::from(extent - 1)) as u32;
+        let last = (centre + reach - 0.5).floor().clamp(0.0, f64::from(extent - 1)) as u32;
+        (first >> level, (last.max(first) >> level) + 1)
+    };
+    let (x0, x1) = span(f64::from(focus.0) * f64::from(screen.0), screen.0);
+    let (y0, y1) = span(f64::from(focus.1) * f64::from(screen.1), screen.1);
+    (x0, y0, x1 - x0, y1 - y0)
 }
 
 /// Levels needed until one fragment covers a screen side of `extent` pixels.
@@ -61,16 +84,26 @@ impl Plan {
                 screen.0, screen.1
             )
         })?;
+        let stencil_pyramid = !config.shade_every_texel;
+        let level_bounds = (0..=top_level)
+            .map(|level| match &config.policy {
+                LodPolicy::Foveated { focus, inner_radius } if stencil_pyramid && level < top_level => {
+                    foveated_bounds(screen, *focus, *inner_radius, level)
+                }
+                _ => (0, 0, level_extents[level as usize].0, level_extents[level as usize].1),
+            })
+            .collect();
         Ok(Self {
             screen,
             top_level,
             level_extents,
+            level_bounds,
             padded,
             skip_absent_levels_on_gpu: !config.shade_every_texel
                 && gpu.adapter.get_downlevel_capabilities().flags.contains(
                     wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE | wgpu::DownlevelFlags::INDIRECT_EXECUTION,
                 ),
-            stencil_pyramid: !config.shade_every_texel,
+            stencil_pyramid,
             edge_pyramid: matches!(config.policy, LodPolicy::Content { .. }),
             atlas,
         })
@@ -83,7 +116,41 @@ impl Plan {
 
 #[cfg(test)]
 mod tests {
-    use super::levels_to_cover;
+    use super::{foveated_bounds, levels_to_cover};
+    use crate::cps::lod_model::foveated;
+
+    #[test]
+    fn every_foveated_pixel_lies_within_its_levels_bounds() {
+        for screen in [(640u32, 360u32), (37, 23), (1, 1), (300, 6), (5, 200)] {
+            let top = levels_to_cover(screen.0.max(screen.1));
+            for inner_radius in [0.0, 0.5, 1.0, 6.0, 24.0, 100.0] {
+                for focus in [(0.5, 0.5), (0.0, 0.0), (1.0, 1.0), (0.3, 0.9)] {
+                    let model = foveated(screen, focus, inner_radius, top);
+                    for (i, (&level, &ambiguous)) in model.levels.iter().zip(&model.ambiguous).enumerate() {
+                        let (x, y) = (i as u32 % screen.0, i as u32 / screen.0);
+                        // An ambiguous pixel lies at a level boundary: the GPU may take either side.
+                        let candidates = if ambiguous {
+                            let f = (f64::from(focus.0 * screen.0 as f32), f64::from(focus.1 * screen.1 as f32));
+                            let d = (f64::from(x) + 0.5 - f.0).hypot(f64::from(y) + 0.5 - f.1);
+                            let boundary = (1.0 + d / f64::from(inner_radius).max(1e-3)).log2().round() as u8;
+                            vec![boundary - 1, boundary]
+                        } else {
+                            vec![level]
+                        };
+                        for level in candidates.into_iter().map(u32::from).filter(|&l| l < top) {
+                            let (bx, by, bw, bh) = foveated_bounds(screen, focus, inner_radius, level);
+                            let (tx, ty) = (x >> level, y >> level);
+                            assert!(
+                                (bx..bx + bw).contains(&tx) && (by..by + bh).contains(&ty),
+                                "{screen:?} r {inner_radius} focus {focus:?}: pixel ({x}, {y}) of level {level} outside {:?}",
+                                (bx, by, bw, bh)
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn levels_stop_where_one_fragment_covers_the_screen() {

@@ -84,9 +84,13 @@ fn begin<'e>(
 }
 
 /// Limits drawing to one level's rect of an atlas: x, y, width, height.
-fn set_level_viewport(pass: &mut wgpu::RenderPass<'_>, (x, y, width, height): (u32, u32, u32, u32)) {
+/// A level's draw: its rect of the atlas as viewport, scissored to the texels that can be needed
+/// (`Plan::level_bounds`, within the level).
+fn set_level_viewport(pass: &mut wgpu::RenderPass<'_>, plan: &Plan, level: usize) {
+    let (x, y, width, height) = plan.atlas.rect(level);
+    let (bx, by, bw, bh) = plan.level_bounds[level];
     pass.set_viewport(x as f32, y as f32, width as f32, height as f32, 0.0, 1.0);
-    pass.set_scissor_rect(x, y, width, height);
+    pass.set_scissor_rect(x + bx, y + by, bw, bh);
 }
 
 pub struct CpsRenderer {
@@ -448,7 +452,7 @@ impl CpsRenderer {
             let resources =
                 [wgpu::BindingResource::TextureView(&self.mask.all), self.level_uniforms[level].as_entire_binding()];
             pass.set_bind_group(0, &bind_group(gpu, "stencil mark", mark, 0, &resources), &[]);
-            set_level_viewport(&mut pass, self.plan.atlas.rect(level));
+            set_level_viewport(&mut pass, &self.plan, level);
             pass.draw(0..3, 0..1);
         }
     }
@@ -498,7 +502,7 @@ impl CpsRenderer {
                 &[self.level_uniforms[level].as_entire_binding()],
             );
             pass.set_bind_group(1, &group, &[]);
-            set_level_viewport(&mut pass, self.plan.atlas.rect(level));
+            set_level_viewport(&mut pass, &self.plan, level);
             pass.begin_occlusion_query(level as u32);
             pass.draw_indirect(&self.level_draws, 16 * level as u64);
             pass.end_occlusion_query();
