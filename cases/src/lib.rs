@@ -52,6 +52,7 @@ pub const ALL: &[Case] = &[
     cbr::exact_sources::CASE,
     cbr::extremes::CASE,
     cbr::deferred_full_resolution::CASE,
+    cbr::upscale_bilinear::CASE,
     // Opt-in (only when a pattern names them): see `fragkit::harness::runner::OPT_IN`.
     fault::validation_error::CASE,
     fault::device_loss::CASE,

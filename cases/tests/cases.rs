@@ -96,4 +96,5 @@ case_tests! {
     cbr_reconstruct_exact_sources => "cbr.reconstruct.exact_sources",
     cbr_extremes => "cbr.extremes",
     cbr_deferred_full_resolution => "cbr.deferred_full_resolution",
+    cbr_upscale_bilinear => "cbr.upscale.bilinear",
 }

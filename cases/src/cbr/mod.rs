@@ -8,3 +8,4 @@ pub mod layout_mapping;
 pub mod reconstruct_moving;
 pub mod reconstruct_static;
 pub mod sample_quadrants;
+pub mod upscale_bilinear;

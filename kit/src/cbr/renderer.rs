@@ -297,6 +297,11 @@ impl HalfResolutionUpscale {
         })
     }
 
+    /// The quarter-resolution image the upscale reads (`cbr.upscale.bilinear`).
+    pub fn quarter_image(&self) -> &wgpu::Texture {
+        &self.image.colour
+    }
+
     /// Renders frame `index` at quarter resolution and upscales it; the GPU time of both.
     pub fn render(&mut self, gpu: &Gpu, index: u32) -> Result<f64> {
         let quarter = quarter_size(self.screen);
