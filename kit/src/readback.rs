@@ -148,9 +148,6 @@ pub fn read_depth(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Vec<f32>> {
         return Ok(read_texture(gpu, texture, wgpu::TextureAspect::All, 0)?.as_f32());
     }
     let format = wgpu::TextureFormat::R32Uint;
-    let size = (texture.width(), texture.height());
-    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-    let bits = gpu.texture("depth bits", size, format, 1, usage);
     let pipeline = crate::fullscreen::FullscreenPipeline {
         label: "depth bits",
         fragment: crate::shaders::DEPTH_BITS,
@@ -169,20 +166,8 @@ pub fn read_depth(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Vec<f32>> {
         0,
         &[wgpu::BindingResource::TextureView(&depth_view)],
     );
-    let target = bits.create_view(&Default::default());
-    let mut encoder = gpu.encoder("depth bits");
-    {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("depth bits"),
-            color_attachments: &[crate::attachments::colour(&target, None, wgpu::Color::TRANSPARENT)],
-            ..Default::default()
-        });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.draw(0..3, 0..1);
-    }
-    gpu.submit(encoder);
-    Ok(read_texture(gpu, &bits, wgpu::TextureAspect::All, 0)?.as_f32())
+    let size = (texture.width(), texture.height());
+    Ok(crate::fullscreen::render_to_readback(gpu, "depth bits", &pipeline, &group, format, size)?.as_f32())
 }
 
 /// Reads the stencil aspect of a single-sampled depth-stencil texture.

@@ -42,11 +42,11 @@ pub const CASE: Case = Case {
 /// half an ulp) against the sum of its terms' magnitudes.
 const PRODUCT_ROUNDING: f64 = 1.0 / (1u64 << 21) as f64;
 
-/// How far, per axis, the GPU's f32 unprojection of `ndc` may land from the exact point: each
-/// homogeneous component off by the f32 inverse's own error (`gpu` against `exact`, known here)
-/// and the product's rounding, then divided by w (whose terms cancel far from the eye, where the
-/// depth nears 1).
-fn unprojection_error(gpu: &DMat4, exact: &DMat4, ndc: DVec4) -> DVec3 {
+/// The exact world point of `ndc`, and how far, per axis, the GPU's f32 unprojection may land
+/// from it: each homogeneous component off by the f32 inverse's own error (`gpu` against
+/// `exact`, known here) and the product's rounding, then divided by w (whose terms cancel far
+/// from the eye, where the depth nears 1).
+fn unproject(gpu: &DMat4, exact: &DMat4, ndc: DVec4) -> (DVec3, DVec3) {
     let row_error = |r: usize| {
         (0..4)
             .map(|c| {
@@ -59,7 +59,7 @@ fn unprojection_error(gpu: &DMat4, exact: &DMat4, ndc: DVec4) -> DVec3 {
     let point = clip.truncate() / clip.w;
     let w_error = row_error(3);
     let axis = |r: usize| (row_error(r) + point[r].abs() * w_error) / (clip.w.abs() - w_error);
-    DVec3::new(axis(0), axis(1), axis(2))
+    (point, DVec3::new(axis(0), axis(1), axis(2)))
 }
 
 fn f32x4(v: DVec3, w: f32) -> [f32; 4] {
@@ -108,11 +108,9 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         }
         let (x, y) = ((i as u32 % size.0) as f64 + 0.5, (i as u32 / size.0) as f64 + 0.5);
         let ndc = DVec4::new(2.0 * x / w - 1.0, 1.0 - 2.0 * y / h, f64::from(d), 1.0);
-        let clip = world_from_clip * ndc;
-        let point = clip.truncate() / clip.w;
+        let (point, step) = unproject(&gpu_world_from_clip, &world_from_clip, ndc);
         let at = |p: DVec3| shade(&surface(p, true), view.eye, &scene.lights);
         let centre = at(point);
-        let step = unprojection_error(&gpu_world_from_clip, &world_from_clip, ndc);
         let mut bound = centre.bound;
         for (axis, step) in [(DVec3::X, step.x), (DVec3::Y, step.y), (DVec3::Z, step.z)] {
             let moved = [at(point + axis * step), at(point - axis * step)];

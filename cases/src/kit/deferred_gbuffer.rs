@@ -20,7 +20,7 @@ use fragkit::deferred::phong::{Surface, read_surfaces};
 use fragkit::deferred::surface_model::{ExpectedPixel, SurfaceModel};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::image_compare::{error_mask, side_by_side};
-use fragkit::scene::corridor::{Scene, corridor};
+use fragkit::scene::corridor::corridor;
 use fragkit::tonemap::ldr_to_display;
 use glam::DVec3;
 
@@ -47,7 +47,7 @@ const F16_RELATIVE: f64 = 1.0 / 1024.0;
 const NORMALISE: f64 = 1.0 / (1u64 << 20) as f64;
 
 /// What is wrong with one pixel's G-buffer sample, if anything.
-fn check(model: &SurfaceModel, scene: &Scene, expected: ExpectedPixel, gpu: &Surface) -> Option<&'static str> {
+fn check(model: &SurfaceModel, expected: ExpectedPixel, gpu: &Surface) -> Option<&'static str> {
     match expected {
         ExpectedPixel::Ambiguous => None,
         ExpectedPixel::Background => (gpu.position[3] != 0.0).then_some("surface where the ray meets nothing"),
@@ -66,7 +66,7 @@ fn check(model: &SurfaceModel, scene: &Scene, expected: ExpectedPixel, gpu: &Sur
             if (px - cx).abs() > SUBPIXEL || (py - cy).abs() > SUBPIXEL {
                 return Some("position away from the pixel centre");
             }
-            let vertex = model.vertex(scene, triangle);
+            let vertex = model.vertex(triangle);
             let unit = DVec3::from(vertex.normal.map(f64::from)).normalize();
             let stored = [unit.x, unit.y, unit.z, f64::from(vertex.shininess)];
             let normal_ok = (0..4)
@@ -89,8 +89,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
 
     let model = SurfaceModel::new(&scene, size);
     let expected = model.expected(SUBPIXEL);
-    let problems: Vec<Option<&str>> =
-        expected.iter().zip(&surfaces).map(|(e, g)| check(&model, &scene, *e, g)).collect();
+    let problems: Vec<Option<&str>> = expected.iter().zip(&surfaces).map(|(e, g)| check(&model, *e, g)).collect();
 
     let count = |f: &dyn Fn(&ExpectedPixel) -> bool| expected.iter().filter(|e| f(e)).count();
     ctx.metric("surface_pixels", count(&|e| matches!(e, ExpectedPixel::Surface { .. })));
@@ -110,7 +109,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         .iter()
         .map(|e| match e {
             ExpectedPixel::Surface { triangle, .. } => {
-                let a = model.vertex(&scene, *triangle).albedo;
+                let a = model.vertex(*triangle).albedo;
                 [a[0], a[1], a[2]]
             }
             _ => [0.0; 3],

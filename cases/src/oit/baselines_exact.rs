@@ -43,6 +43,10 @@ pub const CASE: Case = Case {
 /// A quad's rect in whole pixels: x0, y0 (top), x1, y1 (exclusive).
 type PixelRect = [u32; 4];
 
+fn covers([x0, y0, x1, y1]: &PixelRect, x: u32, y: u32) -> bool {
+    (*x0..*x1).contains(&x) && (*y0..*y1).contains(&y)
+}
+
 /// The opaque background, then `layers` seeded quads over whole pixels: opacities from nearly
 /// transparent to nearly opaque; with `ties`, every second quad at the depth of the one before.
 fn scene(size: (u32, u32), layers: u32, seed: u32, ties: bool) -> (QuadScene, Vec<PixelRect>) {
@@ -111,12 +115,9 @@ fn with_tilted_slab(scene: QuadScene, rects: &mut Vec<PixelRect>, size: (u32, u3
     for y in top..bottom {
         for x in 0..w {
             let at = depth.0 + slope * (x as f32 + 0.5);
-            uncertain[(y * w + x) as usize] =
-                rects[..rects.len() - 1].iter().zip(&quads).any(|([x0, y0, x1, y1], q)| {
-                    (*x0..*x1).contains(&x)
-                        && (*y0..*y1).contains(&y)
-                        && (at - q.depth.0).abs() <= slope * SUBPIXEL + 1.0 / (1 << 20) as f32
-                });
+            uncertain[(y * w + x) as usize] = rects[..rects.len() - 1].iter().zip(&quads).any(|(rect, q)| {
+                covers(rect, x, y) && (at - q.depth.0).abs() <= slope * SUBPIXEL + 1.0 / (1 << 20) as f32
+            });
         }
     }
     (QuadScene::keyed("tilted_slab", quads), uncertain)
@@ -127,10 +128,7 @@ fn coverage(size: (u32, u32), rects: &[PixelRect]) -> Vec<u32> {
     let mut counts = Vec::with_capacity((size.0 * size.1) as usize);
     for y in 0..size.1 {
         for x in 0..size.0 {
-            counts.push(
-                rects.iter().filter(|[x0, y0, x1, y1]| (*x0..*x1).contains(&x) && (*y0..*y1).contains(&y)).count()
-                    as u32,
-            );
+            counts.push(rects.iter().filter(|rect| covers(rect, x, y)).count() as u32);
         }
     }
     counts

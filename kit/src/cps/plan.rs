@@ -99,7 +99,7 @@ impl Plan {
             level_extents,
             level_bounds,
             padded,
-            skip_absent_levels_on_gpu: !config.shade_every_texel
+            skip_absent_levels_on_gpu: stencil_pyramid
                 && gpu.adapter.get_downlevel_capabilities().flags.contains(
                     wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE | wgpu::DownlevelFlags::INDIRECT_EXECUTION,
                 ),

@@ -1,5 +1,5 @@
-//! The CPS frame: LOD buffer and level 0 of the LOD-present mask (one pass) → the mask's
-//! coarser levels (one pass a level) → the stencil of
+//! The CPS frame: LOD buffer and level 0 of the LOD-present mask (one pass) → the mask's even
+//! coarser levels (one pass each) → the stencil of
 //! every level, side by side in one atlas (one pass, one draw a level) → every level lit in one
 //! pass behind stencil Equal (one draw a level, its viewport the level's rect) → composite. Targets and pipelines are made once per renderer; `render` records one frame in
 //! one encoder with a timestamp pair around every pass and an occlusion query around every
@@ -83,7 +83,6 @@ fn begin<'e>(
     pass
 }
 
-/// Limits drawing to one level's rect of an atlas: x, y, width, height.
 /// A level's draw: its rect of the atlas as viewport, scissored to the texels that can be needed
 /// (`Plan::level_bounds`, within the level).
 fn set_level_viewport(pass: &mut wgpu::RenderPass<'_>, plan: &Plan, level: usize) {
@@ -433,7 +432,7 @@ impl CpsRenderer {
         self.record_or_reduce(gpu, encoder, edges, 1, "edges", timer);
     }
 
-    /// The LOD-present mask's coarser levels, one pass a level (each ORing the finer one); then
+    /// The LOD-present mask's even coarser levels, one pass each (ORing the even one below); then
     /// every level's stencil in its atlas, one pass, one draw a level.
     fn record_stencil_pyramid(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
         let (Some(marks), Some(stencil)) = (&self.mark_pipelines, &self.stencil) else { return };

@@ -28,36 +28,39 @@ pub enum ExpectedPixel {
 /// interpolated f32 depths (a few ulps of values up to 1).
 const DEPTH_TIE: f64 = 1.0 / (1 << 20) as f64;
 
-/// Nearest hit of a ray: (triangle, ray parameter, NDC depth) and whether another face ties it.
+/// A ray's hit: the triangle, the ray parameter, the NDC depth, and (for the nearest) whether
+/// another face ties it.
 struct Hit {
     triangle: usize,
     t: f64,
+    depth: f64,
     tied: bool,
 }
 
-/// The scene's triangles in f64 with their geometric (winding) normals.
-pub struct SurfaceModel {
+/// A scene's triangles in f64, seen through the G-buffer pass's camera at one size.
+pub struct SurfaceModel<'a> {
+    scene: &'a Scene,
     triangles: Vec<[DVec3; 3]>,
     clip_from_world: DMat4,
     world_from_clip: DMat4,
     size: (u32, u32),
 }
 
-impl SurfaceModel {
+impl<'a> SurfaceModel<'a> {
     /// The model for `scene` rendered at `size` (the G-buffer pass's own camera matrix).
-    pub fn new(scene: &Scene, size: (u32, u32)) -> Self {
+    pub fn new(scene: &'a Scene, size: (u32, u32)) -> Self {
         let clip_from_world = scene.camera.view_projection(size.0 as f32 / size.1 as f32).as_dmat4();
         let triangles = scene
             .vertices
             .chunks_exact(3)
             .map(|t| [0, 1, 2].map(|i| DVec3::from(t[i].position.map(f64::from))))
             .collect();
-        Self { triangles, clip_from_world, world_from_clip: clip_from_world.inverse(), size }
+        Self { scene, triangles, clip_from_world, world_from_clip: clip_from_world.inverse(), size }
     }
 
     /// The vertex whose material and normal triangle `triangle` carries (flat per face).
-    pub fn vertex<'a>(&self, scene: &'a Scene, triangle: usize) -> &'a SceneVertex {
-        &scene.vertices[3 * triangle]
+    pub fn vertex(&self, triangle: usize) -> &'a SceneVertex {
+        &self.scene.vertices[3 * triangle]
     }
 
     /// Where a world point lands on the screen, in pixels (y down).
@@ -132,21 +135,18 @@ impl SurfaceModel {
             if !(0.0..=1.0).contains(&u) || v < 0.0 || u + v > 1.0 || !(0.0..=1.0).contains(&t) {
                 continue;
             }
-            let depth = self.ndc_depth(near + direction * t);
+            let hit = Hit { triangle: i, t, depth: self.ndc_depth(near + direction * t), tied: false };
             match &mut best {
-                Some(hit) if hit.triangle / 2 == i / 2 => {}
-                Some(hit) if depth < self.ndc_depth(near + direction * hit.t) => {
-                    second_depth = self.ndc_depth(near + direction * hit.t);
-                    *hit = Hit { triangle: i, t, tied: false };
+                Some(nearest) if nearest.triangle / 2 == i / 2 => {}
+                Some(nearest) if hit.depth < nearest.depth => {
+                    second_depth = nearest.depth;
+                    *nearest = hit;
                 }
-                Some(_) => second_depth = second_depth.min(depth),
-                None => best = Some(Hit { triangle: i, t, tied: false }),
+                Some(_) => second_depth = second_depth.min(hit.depth),
+                None => best = Some(hit),
             }
         }
-        best.map(|hit| {
-            let depth = self.ndc_depth(near + direction * hit.t);
-            Hit { tied: second_depth - depth <= DEPTH_TIE, ..hit }
-        })
+        best.map(|hit| Hit { tied: second_depth - hit.depth <= DEPTH_TIE, ..hit })
     }
 
     fn ndc_depth(&self, world: DVec3) -> f64 {
