@@ -16,6 +16,7 @@ pub const COMMON: &[(&str, &str)] = &[
     ("common/lighting.wgsl", include_str!("../../shaders/common/lighting.wgsl")),
     ("common/opacity.wgsl", include_str!("../../shaders/common/opacity.wgsl")),
     ("common/checkerboard.wgsl", include_str!("../../shaders/common/checkerboard.wgsl")),
+    ("common/foveation.wgsl", include_str!("../../shaders/common/foveation.wgsl")),
 ];
 
 /// One pass's shader file, named by its path under `shaders/`.

@@ -2,14 +2,21 @@
 // the pixel's own coarse texel), the original method's 4-neighbour interpolation, and our
 // seam-free one, linear over the shading samples where they were taken. The lit levels are one
 // atlas, read at a per-pixel offset (no fetch at a per-pixel mip level, which GL llvmpipe gets
-// wrong: kit.fetch.per_pixel_level).
+// wrong: kit.fetch.per_pixel_level). A pixel's level is read from the LOD buffer, or where the
+// frame has none (the foveated policy: plan.levels_from_foveation) computed as the LOD pass would.
 
 struct Composite {
     max_level: u32,
     screen: vec2u,
     // Where each level's texels start in the lit atlas (xy).
     origins: array<vec4u, 9>,
+    // The foveated policy's focus in pixels and inner radius (read where `foveated`).
+    focus: vec2f,
+    inner_radius: f32,
 }
+
+// The plan's levels_from_foveation.
+override foveated: bool;
 
 @group(0) @binding(0) var<uniform> composite: Composite;
 @group(0) @binding(1) var lod: texture_2d<u32>;
@@ -19,6 +26,9 @@ struct Composite {
 
 fn level_of(pixel: vec2i) -> u32 {
     let clamped = vec2u(clamp(pixel, vec2i(0), vec2i(composite.screen) - 1));
+    if foveated {
+        return level_of_octaves(foveated_octaves(vec2f(clamped) + 0.5, composite.focus, composite.inner_radius), composite.max_level);
+    }
     return min(textureLoad(lod, clamped, 0).x, composite.max_level);
 }
 

@@ -32,9 +32,7 @@ struct DrawIndirect {
 @group(1) @binding(0) var<storage, read_write> level_draws: array<DrawIndirect, 9>;
 
 fn foveated_level(position: vec4f) -> u32 {
-    let distance = length(position.xy - parameters.focus);
-    let level = floor(log2(1.0 + distance / max(parameters.inner_radius, 1e-3)));
-    return min(u32(level), parameters.max_level);
+    return level_of_octaves(foveated_octaves(position.xy, parameters.focus, parameters.inner_radius), parameters.max_level);
 }
 
 fn content_level(position: vec4f) -> u32 {
@@ -70,6 +68,13 @@ fn lod_and_present(level: u32) -> LodAndPresent {
 @fragment
 fn fs_lod_foveated(@builtin(position) position: vec4f) -> LodAndPresent {
     return lod_and_present(foveated_level(position));
+}
+
+// The LOD alone, for a frame whose passes compute the foveated level where they need it: the
+// LOD picture, rendered on request (CpsRenderer::read_lod).
+@fragment
+fn fs_lod_foveated_alone(@builtin(position) position: vec4f) -> @location(0) u32 {
+    return foveated_level(position);
 }
 
 @fragment

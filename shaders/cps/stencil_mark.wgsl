@@ -1,10 +1,13 @@
 // The stencil pyramid in its atlas: one draw a level, its viewport the level's rect, marks (op
-// Replace) the texels whose LOD-present mask has the level's bit — some pixel of the texel's
-// block uses that level — and discards the others. All levels in one pass, after the mask
-// pyramid is built; this stands in for stencil export, which wgpu (and NVIDIA's GL) lack. The
-// pyramid holds the even mips only: an even level reads its own mip, an odd one ORs its 2×2
-// children in the even mip below (its own entry point: a branch on the level would run both
-// sides on a CPU rasteriser).
+// Replace) the texels some pixel of whose block uses that level, and discards the others; the
+// draws open the lighting pass (cps/lighting.wgsl), whose stencil-Equal draws follow them. This
+// stands in for stencil export, which wgpu (and NVIDIA's GL) lack.
+//
+// In general the levels a block uses come from the LOD-present mask pyramid, built before the
+// pass. It holds the even mips only: an even level reads its own mip, an odd one ORs its 2×2
+// children in the even mip below (its own entry point: a branch on the level would run both sides
+// on a CPU rasteriser). Under the foveated policy they follow from the block's geometry instead
+// (fs_stencil_mark_foveated), and no pyramid is built.
 
 struct AtlasLevel {
     level: u32,
@@ -14,6 +17,21 @@ struct AtlasLevel {
 
 @group(0) @binding(0) var mask: texture_2d<u32>;
 @group(0) @binding(1) var<uniform> target_level: AtlasLevel;
+
+// The foveated policy's parameters, as the LOD pass has them, and the screen.
+struct Foveation {
+    focus: vec2f,
+    inner_radius: f32,
+    max_level: u32,
+    screen: vec2u,
+}
+
+@group(0) @binding(2) var<uniform> foveation: Foveation;
+
+// How far the marks widen a block's octaves (2^-18), at least twice the GPU's error in a pixel's
+// octaves (log2 within 2^-21, the distance's relative 2^-21): no pixel the LOD pass gives a level
+// lies outside the block's marked range.
+const MARK_WIDENING: f32 = 3.814697265625e-6;
 
 fn texel_of_level(position: vec4f) -> vec2u {
     return vec2u(position.xy) - vec2u(target_level.origin_x, target_level.origin_y);
@@ -46,4 +64,24 @@ fn fs_stencil_mark_odd(@builtin(position) position: vec4f) {
         }
     }
     mark_if(bits);
+}
+
+// A level's pixels lie in a ring around the focus, and a pixel's octaves grow with its distance:
+// the levels of a block's pixels run from its pixel nearest the focus to its farthest, and each
+// level in between is used too, as its ring is at least 2 inner radii wide (the plan takes this
+// path for inner radii of one pixel or more), wider than the √2 between a pixel and the next.
+@fragment
+fn fs_stencil_mark_foveated(@builtin(position) position: vec4f) {
+    let level = target_level.level;
+    let first = texel_of_level(position) << vec2u(level);
+    let last = min(first + vec2u((1u << level) - 1u), foveation.screen - 1u);
+    let focus = foveation.focus;
+    let nearest = clamp(floor(focus), vec2f(first), vec2f(last));
+    let farthest = select(vec2f(first), vec2f(last), vec2f(last) + 0.5 - focus > focus - (vec2f(first) + 0.5));
+    let radius = foveation.inner_radius;
+    let finest = level_of_octaves(foveated_octaves(nearest + 0.5, focus, radius) - MARK_WIDENING, foveation.max_level);
+    let coarsest = level_of_octaves(foveated_octaves(farthest + 0.5, focus, radius) + MARK_WIDENING, foveation.max_level);
+    if level < finest || level > coarsest {
+        discard;
+    }
 }

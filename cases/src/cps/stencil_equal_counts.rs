@@ -1,7 +1,9 @@
 //! `cps.stencil_equal.counts`: every level's stencil marks exactly the coarse texels some pixel of
 //! that level falls in, checked texel by texel through what the level's lighting wrote (and the
 //! stencil itself where the adapter copies stencil), and the occlusion query around each level's
-//! stencil-Equal lighting draw counts exactly those texels. For the foveated and content policies,
+//! stencil-Equal lighting draw counts exactly those texels. For the foveated policy (inner radii
+//! either side of one pixel, where the marks switch from the geometry to the mask pyramid), the
+//! content policy,
 //! a seeded random LOD per pixel and all pixels at level 8 (past the screen), on 1×1, odd and
 //! even sizes. The levels come from the policies' CPU models (`cps::lod_model`), not the GPU's LOD
 //! buffer; a texel whose block holds a pixel the model calls ambiguous may go either way and is
@@ -35,6 +37,12 @@ pub const CASE: Case = Case {
 fn policies(size: (u32, u32), seed: u32) -> Vec<(&'static str, LodPolicy)> {
     vec![
         ("foveated", LodPolicy::Foveated { focus: (0.3, 0.6), inner_radius: 6.0 }),
+        // The narrowest rings the marks compute from the geometry, and narrower ones, which go
+        // through the mask pyramid (`Plan::levels_from_foveation`): at 0.3 px no pixel of 64x48
+        // lies in level 1's ring around a focus on a pixel centre, though the block around it
+        // holds levels 0 and 2.
+        ("foveated_r1", LodPolicy::Foveated { focus: (32.5 / 64.0, 24.5 / 48.0), inner_radius: 1.0 }),
+        ("foveated_r0.3", LodPolicy::Foveated { focus: (32.5 / 64.0, 24.5 / 48.0), inner_radius: 0.3 }),
         ("content", LodPolicy::content()),
         ("random", LodPolicy::Explicit(random_lod(size, seed))),
         ("all_level_8", LodPolicy::Explicit(vec![MAX_LEVEL as u8; (size.0 * size.1) as usize])),

@@ -36,6 +36,17 @@ impl LodPolicy {
         }
     }
 
+    /// The foveated policy's focus in pixels of `screen` and its inner radius, as f32 bits (as the
+    /// shaders take them); zeros for the other policies.
+    pub fn foveation_words(&self, screen: (u32, u32)) -> [u32; 3] {
+        match self {
+            Self::Foveated { focus, inner_radius } => {
+                [(focus.0 * screen.0 as f32).to_bits(), (focus.1 * screen.1 as f32).to_bits(), inner_radius.to_bits()]
+            }
+            _ => [0.0f32.to_bits(); 3],
+        }
+    }
+
     /// Parses `foveated` or `content` (explicit policies come through the API).
     pub fn parse(name: &str) -> Result<Self> {
         match name {

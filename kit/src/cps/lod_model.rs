@@ -14,8 +14,10 @@ use crate::scene::hash::SeededRng;
 
 /// log2's absolute error on the GPU is within 2^-21 (Vulkan's bound on 0.5..2, and relative 3 ulp
 /// elsewhere), the distance's relative error within 2^-21 moves log2 by 2^-21 / ln 2: a level
-/// boundary closer than 2^-19 in log2 may fall either way.
-const LOG2_AMBIGUITY: f64 = 1.0 / (1u64 << 19) as f64;
+/// boundary closer than 2^-19 in log2 may fall either way. The stencil marks widen a block's
+/// octaves by 2^-18 more (shaders/cps/stencil_mark.wgsl): within 2^-17, a block may be marked for
+/// the level across the boundary too.
+const LOG2_AMBIGUITY: f64 = 1.0 / (1u64 << 17) as f64;
 
 /// A comparison of two f32 results whose difference is within 2^-20 of their magnitude may fall
 /// either way (a dot product or a distance of f32 inputs errs by a few 2^-24).

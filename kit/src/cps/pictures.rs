@@ -27,8 +27,12 @@ fn level_colour(level: u8) -> Rgba<u8> {
 }
 
 impl CpsRenderer {
-    /// The LOD per pixel as read back.
+    /// The LOD per pixel as read back; where the frame computes the foveated levels itself and
+    /// writes no LOD buffer, as the LOD pass renders it now.
     pub fn read_lod(&self, gpu: &Gpu) -> Result<Vec<u8>> {
+        if self.plan.levels_from_foveation {
+            self.render_foveated_lod(gpu).context("rendering the foveated LOD")?;
+        }
         let (width, height) = self.plan.screen;
         Ok(read_texture(gpu, &self.lod, wgpu::TextureAspect::All, 0)?.region(0, 0, width, height).bytes)
     }

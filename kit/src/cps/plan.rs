@@ -25,6 +25,12 @@ pub struct Plan {
     pub skip_absent_levels_on_gpu: bool,
     /// The stencil pyramid (absent for the naive, shade-everything comparison).
     pub stencil_pyramid: bool,
+    /// The foveated policy with an inner radius of a pixel or more: every pass that needs a
+    /// pixel's level computes it from the foveation (common/foveation.wgsl) instead of reading
+    /// an LOD buffer, and the stencil marks a block's levels from its nearest and farthest pixels
+    /// (the rings are too wide for a block to skip one). No LOD pass, no mask pyramid: the frame
+    /// leaves out what only a data-dependent LOD needs.
+    pub levels_from_foveation: bool,
     pub edge_pyramid: bool,
     /// Where each level lies in the stencil and lit atlases.
     pub atlas: LevelAtlas,
@@ -85,6 +91,8 @@ impl Plan {
             )
         })?;
         let stencil_pyramid = !config.shade_every_texel;
+        let levels_from_foveation =
+            matches!(config.policy, LodPolicy::Foveated { inner_radius, .. } if inner_radius >= 1.0);
         let level_bounds = (0..=top_level)
             .map(|level| match &config.policy {
                 LodPolicy::Foveated { focus, inner_radius } if stencil_pyramid && level < top_level => {
@@ -100,10 +108,12 @@ impl Plan {
             level_bounds,
             padded,
             skip_absent_levels_on_gpu: stencil_pyramid
+                && !levels_from_foveation
                 && gpu.adapter.get_downlevel_capabilities().flags.contains(
                     wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE | wgpu::DownlevelFlags::INDIRECT_EXECUTION,
                 ),
             stencil_pyramid,
+            levels_from_foveation,
             edge_pyramid: matches!(config.policy, LodPolicy::Content { .. }),
             atlas,
         })
@@ -111,6 +121,15 @@ impl Plan {
 
     pub fn levels(&self) -> u32 {
         self.top_level + 1
+    }
+
+    /// A level's draw: its rect of the atlas as viewport, scissored to the texels that can be
+    /// needed (`level_bounds`, within the level).
+    pub(crate) fn set_level_viewport(&self, pass: &mut wgpu::RenderPass<'_>, level: usize) {
+        let (x, y, width, height) = self.atlas.rect(level);
+        let (bx, by, bw, bh) = self.level_bounds[level];
+        pass.set_viewport(x as f32, y as f32, width as f32, height as f32, 0.0, 1.0);
+        pass.set_scissor_rect(x + bx, y + by, bw, bh);
     }
 }
 

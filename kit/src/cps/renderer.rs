@@ -1,8 +1,9 @@
 //! The CPS frame: LOD buffer and level 0 of the LOD-present mask (one pass) → the mask's even
-//! coarser levels (one pass each) → the stencil of
-//! every level, side by side in one atlas (one pass, one draw a level) → every level lit in one
-//! pass behind stencil Equal (one draw a level, its viewport the level's rect) → composite. Targets and pipelines are made once per renderer; `render` records one frame in
-//! one encoder with a timestamp pair around every pass and an occlusion query around every
+//! coarser levels (one pass each; not under the foveated policy, whose marks follow from the
+//! geometry) → one pass that marks every level's stencil, side by side in one atlas (one draw a
+//! level), then lights every level behind stencil Equal (one draw a level, its viewport the level's
+//! rect) → composite. Targets and pipelines are made once per renderer; `render` records one frame
+//! in one encoder with a timestamp pair around every pass and an occlusion query around every
 //! level's lighting draw.
 
 use anyhow::{Context, Result};
@@ -11,6 +12,7 @@ use glam::Vec3;
 use super::config::{CpsConfig, LodPolicy};
 use super::plan::Plan;
 use super::reference::Level;
+use super::stencil_marks::StencilMarks;
 use super::targets::MipChain;
 use crate::deferred::gbuffer::Gbuffer;
 use crate::deferred::lighting::{HDR, shading_uniform};
@@ -23,7 +25,7 @@ use crate::shaders;
 
 const LOD: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
 const MASK: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
-const STENCIL: wgpu::TextureFormat = wgpu::TextureFormat::Stencil8;
+pub(super) const STENCIL: wgpu::TextureFormat = wgpu::TextureFormat::Stencil8;
 
 /// One frame's inputs.
 pub struct CpsFrame<'a> {
@@ -43,7 +45,7 @@ pub struct CpsOutput {
 impl CpsOutput {
     /// GPU time of the passes whose label starts with `prefix` ("" for all).
     pub fn gpu_ms(&self, prefix: &str) -> f64 {
-        self.pass_times.iter().filter(|t| t.label.starts_with(prefix)).map(|t| t.ms).sum()
+        self.pass_times.iter().filter(|t| t.label.starts_with(prefix)).fold(0.0, |sum, t| sum + t.ms)
     }
 }
 
@@ -54,6 +56,8 @@ fn target_usage() -> wgpu::TextureUsages {
 /// Colour and stencil attachments of one pass; `viewport` limits drawing to the texels in use.
 struct PassTargets<'a> {
     colours: &'a [&'a wgpu::TextureView],
+    /// Keep the colours' contents instead of clearing them (only what the pass writes is read).
+    keep_colours: bool,
     stencil: Option<(&'a wgpu::TextureView, wgpu::LoadOp<u32>)>,
     viewport: (u32, u32),
 }
@@ -65,8 +69,19 @@ fn begin<'e>(
     timer: &mut GpuTimer,
     queries: Option<&wgpu::QuerySet>,
 ) -> wgpu::RenderPass<'e> {
-    let colours: Vec<_> =
-        targets.colours.iter().map(|view| crate::attachments::colour(view, None, wgpu::Color::TRANSPARENT)).collect();
+    let load = if targets.keep_colours { wgpu::LoadOp::Load } else { wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT) };
+    let colours: Vec<_> = targets
+        .colours
+        .iter()
+        .map(|view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load, store: wgpu::StoreOp::Store },
+            })
+        })
+        .collect();
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
         color_attachments: &colours,
@@ -83,27 +98,20 @@ fn begin<'e>(
     pass
 }
 
-/// A level's draw: its rect of the atlas as viewport, scissored to the texels that can be needed
-/// (`Plan::level_bounds`, within the level).
-fn set_level_viewport(pass: &mut wgpu::RenderPass<'_>, plan: &Plan, level: usize) {
-    let (x, y, width, height) = plan.atlas.rect(level);
-    let (bx, by, bw, bh) = plan.level_bounds[level];
-    pass.set_viewport(x as f32, y as f32, width as f32, height as f32, 0.0, 1.0);
-    pass.set_scissor_rect(x + bx, y + by, bw, bh);
-}
-
 pub struct CpsRenderer {
     pub config: CpsConfig,
     pub plan: Plan,
     /// LOD per pixel (`R8Uint`; the screen's pixels of a texture as large as the mask pyramid's
-    /// base, which the LOD pass writes beside it).
+    /// base, which the LOD pass writes beside it). Where the levels come from the foveation, no
+    /// frame writes it: `read_lod` renders it on request.
     pub lod: wgpu::Texture,
     lod_view: wgpu::TextureView,
     /// OR-reduced edge flags (content policy only).
     pub edges: Option<MipChain>,
     /// OR-reduced LOD-present bits: bit l of mip l texel q = some pixel of q's block has LOD l;
     /// only the even mips are built (an odd level's marks OR four texels of the mip below).
-    pub mask: MipChain,
+    /// Absent where the levels come from the foveation.
+    pub mask: Option<MipChain>,
     /// Every level's stencil, side by side (absent for the naive comparison).
     pub stencil: Option<wgpu::Texture>,
     /// Every lit level, side by side; alpha 1 marks a shaded texel.
@@ -114,7 +122,7 @@ pub struct CpsRenderer {
     pub(crate) level_draws: wgpu::Buffer,
     level_uniforms: Vec<wgpu::Buffer>,
     /// The LOD buffer and mask level 0 from the policy, or (the caller's own LOD) mask level 0
-    /// from the LOD buffer.
+    /// from the LOD buffer, or (levels from the foveation) the LOD buffer alone.
     lod_pipeline: wgpu::RenderPipeline,
     /// Edge detection (content policy only).
     edge_pipeline: Option<wgpu::RenderPipeline>,
@@ -122,8 +130,8 @@ pub struct CpsRenderer {
     /// two below (the LOD-present pyramid: even mips only).
     mask_reduce_pipeline: wgpu::RenderPipeline,
     mask_reduce_two_levels_pipeline: wgpu::RenderPipeline,
-    /// Stencil marks of the even and of the odd levels, from the finished mask pyramid.
-    mark_pipelines: Option<[wgpu::RenderPipeline; 2]>,
+    /// Stencil marks, drawn at the start of the lighting pass.
+    marks: Option<StencilMarks>,
     light_pipeline: wgpu::RenderPipeline,
     composite_pipeline: wgpu::RenderPipeline,
 }
@@ -160,6 +168,9 @@ impl CpsRenderer {
             .create(gpu)
         };
         let (lod_pipeline, edge_pipeline) = match &config.policy {
+            LodPolicy::Foveated { .. } if plan.levels_from_foveation => {
+                (fullscreen("foveated lod", shaders::CPS_LOD, "fs_lod_foveated_alone", Some(LOD), None), None)
+            }
             LodPolicy::Foveated { .. } => (lod_and_mask("foveated lod", "foveated"), None),
             LodPolicy::Content { .. } => (
                 lod_and_mask("content lod", "content"),
@@ -170,24 +181,15 @@ impl CpsRenderer {
                 None,
             ),
         };
-        let mark_pipelines = plan.stencil_pyramid.then(|| {
-            ["fs_stencil_mark_even", "fs_stencil_mark_odd"].map(|entry_point| {
-                FullscreenPipeline {
-                    label: "stencil mark",
-                    fragment: shaders::CPS_STENCIL_MARK,
-                    entry_point,
-                    // Stencil only: no colour target.
-                    targets: &[],
-                    depth_stencil: Some(stencil_state(
-                        STENCIL,
-                        wgpu::CompareFunction::Always,
-                        wgpu::StencilOperation::Replace,
-                    )),
-                    samples: 1,
-                }
-                .create(gpu)
+        let mask = (!plan.levels_from_foveation).then(|| chain("lod-present pyramid", MASK));
+        let level_uniforms: Vec<wgpu::Buffer> = (0..levels as usize)
+            .map(|level| {
+                let (x, y) = atlas.origins[level];
+                uniform_buffer(gpu, "level", bytemuck::cast_slice(&[level as u32, x, y, 0]))
             })
-        });
+            .collect();
+        let marks =
+            plan.stencil_pyramid.then(|| StencilMarks::new(gpu, &plan, &config.policy, mask.as_ref(), &level_uniforms));
         let level_draws = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("level draws"),
             size: 16 * 9,
@@ -201,18 +203,13 @@ impl CpsRenderer {
             lod_view: lod.create_view(&Default::default()),
             lod,
             edges: plan.edge_pyramid.then(|| chain("edge pyramid", MASK)),
-            mask: chain("lod-present pyramid", MASK),
+            mask,
             stencil: plan.stencil_pyramid.then(|| gpu.texture("stencil atlas", atlas.size, STENCIL, 1, target_usage())),
             // Written by copies too: a case composites known shading (`composite_levels`).
             lit: gpu.texture("lit atlas", atlas.size, HDR, 1, target_usage() | wgpu::TextureUsages::COPY_DST),
             image: gpu.texture("cps composite", screen, HDR, 1, target_usage()),
             level_draws,
-            level_uniforms: (0..levels as usize)
-                .map(|level| {
-                    let (x, y) = atlas.origins[level];
-                    uniform_buffer(gpu, "level", bytemuck::cast_slice(&[level as u32, x, y, 0]))
-                })
-                .collect(),
+            level_uniforms,
             lod_pipeline,
             edge_pipeline,
             mask_reduce_pipeline: fullscreen(
@@ -229,7 +226,7 @@ impl CpsRenderer {
                 Some(MASK),
                 None,
             ),
-            mark_pipelines,
+            marks,
             light_pipeline: fullscreen(
                 "light level",
                 shaders::CPS_LIGHTING,
@@ -246,7 +243,7 @@ impl CpsRenderer {
                 depth_stencil: None,
                 samples: 1,
             }
-            .create(gpu),
+            .create_specialised(gpu, &[("foveated", f64::from(u8::from(plan.levels_from_foveation)))]),
             config,
             plan,
         })
@@ -278,8 +275,10 @@ impl CpsRenderer {
             );
         }
         let mut encoder = gpu.encoder("cps frame");
-        self.record_lod(gpu, &mut encoder, frame, &mut timer);
-        self.record_stencil_pyramid(gpu, &mut encoder, &mut timer);
+        if !self.plan.levels_from_foveation {
+            self.record_lod(gpu, &mut encoder, frame, &mut timer);
+        }
+        self.record_mask_pyramid(gpu, &mut encoder, &mut timer);
         self.record_lighting(gpu, &mut encoder, frame, &mut timer, &queries);
         self.record_composite(gpu, &mut encoder, &mut timer);
         queries.resolve(&mut encoder);
@@ -346,6 +345,7 @@ impl CpsRenderer {
             let group = bind_group(gpu, label, pipeline, 0, &[finer]);
             let targets = PassTargets {
                 colours: &[&chain.level_views[level]],
+                keep_colours: false,
                 stencil: None,
                 viewport: self.plan.level_extents[level],
             };
@@ -359,36 +359,63 @@ impl CpsRenderer {
     /// The LOD buffer and mask level 0 in one pass (the content policy's edge pyramid first), or
     /// for the caller's own LOD, uploaded before the encoder, mask level 0 from it.
     fn record_lod(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, frame: &CpsFrame, timer: &mut GpuTimer) {
-        let screen = self.plan.screen;
-        let top = self.plan.top_level;
-        let mut words = [0.0f32.to_bits(), 0.0f32.to_bits(), 0.0f32.to_bits(), top];
-        if let LodPolicy::Foveated { focus, inner_radius } = &self.config.policy {
-            words[..3].copy_from_slice(&[
-                (focus.0 * screen.0 as f32).to_bits(),
-                (focus.1 * screen.1 as f32).to_bits(),
-                inner_radius.to_bits(),
-            ]);
-        }
-        let parameters = uniform_buffer(gpu, "lod parameters", bytemuck::cast_slice(&words));
-        let mut resources = vec![(0, parameters.as_entire_binding())];
-        match (&self.config.policy, &self.edges) {
+        let edges = match (&self.config.policy, &self.edges) {
             (LodPolicy::Content { normal_cos, depth_ratio }, Some(edges)) => {
                 self.record_edges(gpu, encoder, frame, edges, (*normal_cos, *depth_ratio), timer);
-                resources.push((1, wgpu::BindingResource::TextureView(&edges.all)));
+                Some(edges)
             }
-            (LodPolicy::Explicit(_), _) => resources.push((2, wgpu::BindingResource::TextureView(&self.lod_view))),
-            _ => {}
+            _ => None,
+        };
+        self.record_lod_pass(gpu, encoder, edges, timer);
+    }
+
+    /// The LOD buffer alone where the frame computes the foveated levels itself: for a reader
+    /// of the LOD (`read_lod`), outside the frame.
+    pub(crate) fn render_foveated_lod(&self, gpu: &Gpu) -> Result<()> {
+        let mut timer = GpuTimer::new(gpu, 1);
+        let mut encoder = gpu.encoder("cps lod");
+        self.record_lod_pass(gpu, &mut encoder, None, &mut timer);
+        timer.resolve(&mut encoder);
+        gpu.submit(encoder);
+        timer.read(gpu).map(drop)
+    }
+
+    /// The LOD pass itself, reading the content policy's `edges` where given.
+    fn record_lod_pass(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        edges: Option<&MipChain>,
+        timer: &mut GpuTimer,
+    ) {
+        let screen = self.plan.screen;
+        let [x, y, radius] = self.config.policy.foveation_words(screen);
+        let words = [x, y, radius, self.plan.top_level];
+        let parameters = uniform_buffer(gpu, "lod parameters", bytemuck::cast_slice(&words));
+        let mut resources = vec![(0, parameters.as_entire_binding())];
+        if let Some(edges) = edges {
+            resources.push((1, wgpu::BindingResource::TextureView(&edges.all)));
+        }
+        if let LodPolicy::Explicit(_) = self.config.policy {
+            resources.push((2, wgpu::BindingResource::TextureView(&self.lod_view)));
         }
         let group = bind_group_at(gpu, "lod", &self.lod_pipeline, 0, &resources);
         let counts = self
             .plan
             .skip_absent_levels_on_gpu
             .then(|| bind_group(gpu, "level draws", &self.lod_pipeline, 1, &[self.level_draws.as_entire_binding()]));
-        let mask = &self.mask.level_views[0];
-        let written: &[&wgpu::TextureView] =
-            if matches!(self.config.policy, LodPolicy::Explicit(_)) { &[mask] } else { &[&self.lod_view, mask] };
-        let mut pass =
-            begin(encoder, "lod", PassTargets { colours: written, stencil: None, viewport: screen }, timer, None);
+        let written: Vec<&wgpu::TextureView> = match (&self.mask, &self.config.policy) {
+            (None, _) => vec![&self.lod_view],
+            (Some(mask), LodPolicy::Explicit(_)) => vec![&mask.level_views[0]],
+            (Some(mask), _) => vec![&self.lod_view, &mask.level_views[0]],
+        };
+        let mut pass = begin(
+            encoder,
+            "lod",
+            PassTargets { keep_colours: false, colours: &written, stencil: None, viewport: screen },
+            timer,
+            None,
+        );
         pass.set_pipeline(&self.lod_pipeline);
         pass.set_bind_group(0, &group, &[]);
         if let Some(counts) = &counts {
@@ -423,7 +450,12 @@ impl CpsRenderer {
             ],
         );
         {
-            let targets = PassTargets { colours: &[&edges.level_views[0]], stencil: None, viewport: self.plan.screen };
+            let targets = PassTargets {
+                keep_colours: false,
+                colours: &[&edges.level_views[0]],
+                stencil: None,
+                viewport: self.plan.screen,
+            };
             let mut pass = begin(encoder, "edges 0", targets, timer, None);
             pass.set_pipeline(edge_pipeline);
             pass.set_bind_group(0, &group, &[]);
@@ -432,27 +464,11 @@ impl CpsRenderer {
         self.record_or_reduce(gpu, encoder, edges, 1, "edges", timer);
     }
 
-    /// The LOD-present mask's even coarser levels, one pass each (ORing the even one below); then
-    /// every level's stencil in its atlas, one pass, one draw a level.
-    fn record_stencil_pyramid(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
-        let (Some(marks), Some(stencil)) = (&self.mark_pipelines, &self.stencil) else { return };
-        self.record_or_reduce(gpu, encoder, &self.mask, 2, "pyramid", timer);
-        let stencil_view = stencil.create_view(&Default::default());
-        let targets = PassTargets {
-            colours: &[],
-            stencil: Some((&stencil_view, wgpu::LoadOp::Clear(0))),
-            viewport: self.plan.atlas.size,
-        };
-        let mut pass = begin(encoder, "pyramid marks", targets, timer, None);
-        pass.set_stencil_reference(1);
-        for level in 0..self.plan.levels() as usize {
-            let mark = &marks[level % 2];
-            pass.set_pipeline(mark);
-            let resources =
-                [wgpu::BindingResource::TextureView(&self.mask.all), self.level_uniforms[level].as_entire_binding()];
-            pass.set_bind_group(0, &bind_group(gpu, "stencil mark", mark, 0, &resources), &[]);
-            set_level_viewport(&mut pass, &self.plan, level);
-            pass.draw(0..3, 0..1);
+    /// The LOD-present mask's even coarser levels, one pass each (ORing the even one below), where
+    /// the stencil marks read them.
+    fn record_mask_pyramid(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
+        if let (true, Some(mask)) = (self.plan.stencil_pyramid, &self.mask) {
+            self.record_or_reduce(gpu, encoder, mask, 2, "pyramid", timer);
         }
     }
 
@@ -481,16 +497,22 @@ impl CpsRenderer {
         );
         let lit = self.lit.create_view(&Default::default());
         let stencil = self.stencil.as_ref().map(|stencil| stencil.create_view(&Default::default()));
+        // The lit atlas is not cleared: a texel keeps its last shading until shaded again, and
+        // the composite reads only texels the frame's stencil let the lighting shade.
         let targets = PassTargets {
             colours: &[&lit],
-            stencil: stencil.as_ref().map(|view| (view, wgpu::LoadOp::Load)),
+            keep_colours: true,
+            stencil: stencil.as_ref().map(|view| (view, wgpu::LoadOp::Clear(0))),
             viewport: self.plan.atlas.size,
         };
         let mut pass = begin(encoder, "light", targets, timer, Some(queries.set()));
-        pass.set_pipeline(&self.light_pipeline);
-        if self.stencil.is_some() {
+        // The marks first: draws of one pass see the stencil earlier draws wrote.
+        if let Some(marks) = &self.marks {
+            marks.record(&mut pass, &self.plan);
+            // Lit where marked: stencil Equal 1.
             pass.set_stencil_reference(1);
         }
+        pass.set_pipeline(&self.light_pipeline);
         pass.set_bind_group(0, &inputs, &[]);
         for level in 0..self.plan.levels() as usize {
             let group = bind_group(
@@ -501,7 +523,7 @@ impl CpsRenderer {
                 &[self.level_uniforms[level].as_entire_binding()],
             );
             pass.set_bind_group(1, &group, &[]);
-            set_level_viewport(&mut pass, &self.plan, level);
+            self.plan.set_level_viewport(&mut pass, level);
             pass.begin_occlusion_query(level as u32);
             pass.draw_indirect(&self.level_draws, 16 * level as u64);
             pass.end_occlusion_query();
@@ -515,6 +537,8 @@ impl CpsRenderer {
             let (x, y) = self.plan.atlas.origins.get(level).copied().unwrap_or_default();
             words.extend([x, y, 0, 0]);
         }
+        words.extend(self.config.policy.foveation_words(self.plan.screen));
+        words.push(0);
         let uniform = uniform_buffer(gpu, "composite", bytemuck::cast_slice(&words));
         let lit = self.lit.create_view(&Default::default());
         let resources = [
@@ -524,7 +548,8 @@ impl CpsRenderer {
         ];
         let group = bind_group(gpu, "composite", &self.composite_pipeline, 0, &resources);
         let view = self.image.create_view(&Default::default());
-        let targets = PassTargets { colours: &[&view], stencil: None, viewport: self.plan.screen };
+        // Every pixel is written: nothing to clear.
+        let targets = PassTargets { keep_colours: true, colours: &[&view], stencil: None, viewport: self.plan.screen };
         let mut pass = begin(encoder, "composite", targets, timer, None);
         pass.set_pipeline(&self.composite_pipeline);
         pass.set_bind_group(0, &group, &[]);
