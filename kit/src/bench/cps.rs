@@ -1,8 +1,9 @@
 //! Coarse pixel shading against full-resolution deferred shading: the corridor with 200 lights
 //! at 640×360, foveated LOD (top level 5), nearest composite; the default fovea (inner radius
 //! 24 px) and two wider ones, whose ideal speed-ups are lower. GPU time from timestamp queries
-//! around every pass (CPS: LOD, pyramids, lighting, composite; full resolution: its lighting
-//! pass), the G-buffer excluded from both. Each CPS variant is set against the ideal speed-up its
+//! around every pass (CPS: the LOD and pyramid passes where the policy has them, "build"; the
+//! stencil marks and lighting, one pass; the composite; full resolution: its lighting pass), the
+//! G-buffer excluded from both. Each CPS variant is set against the ideal speed-up its
 //! shaded texel count implies, with where the rest goes (the fixed passes, the cost per shaded
 //! texel).
 
