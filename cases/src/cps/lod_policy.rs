@@ -1,7 +1,8 @@
 //! `cps.lod_policy`: the LOD buffer the GPU writes equals the CPU model of each policy's
 //! definition (`fragkit::cps::lod_model`), fed with the scene's inputs: the foveated formula at
-//! several foci and radii, and the content rule from the read-back G-buffer at two threshold
-//! pairs. Pixels whose level hangs on a comparison closer than f32 can decide are skipped and
+//! several foci and radii (a foveated frame computes each level where it needs it, with the
+//! function `read_lod` renders the buffer with), and the content rule from the read-back G-buffer
+//! at two threshold pairs. Pixels whose level hangs on a comparison closer than f32 can decide are skipped and
 //! counted (`ambiguous_pixels`), never guessed.
 
 use anyhow::Result;
