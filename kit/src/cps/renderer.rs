@@ -13,7 +13,7 @@ use super::config::{CpsConfig, LodPolicy};
 use super::plan::Plan;
 use super::reference::Level;
 use super::stencil_marks::StencilMarks;
-use super::targets::MipChain;
+use super::targets::OrPyramid;
 use crate::deferred::gbuffer::Gbuffer;
 use crate::deferred::lighting::{HDR, shading_uniform};
 use crate::deferred::lights::LightTexture;
@@ -24,7 +24,7 @@ use crate::rects::stencil_state;
 use crate::shaders;
 
 const LOD: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
-const MASK: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+const MASK: wgpu::TextureFormat = OrPyramid::FORMAT;
 pub(super) const STENCIL: wgpu::TextureFormat = wgpu::TextureFormat::Stencil8;
 
 /// One frame's inputs.
@@ -107,11 +107,11 @@ pub struct CpsRenderer {
     pub lod: wgpu::Texture,
     lod_view: wgpu::TextureView,
     /// OR-reduced edge flags (content policy only).
-    pub edges: Option<MipChain>,
+    pub edges: Option<OrPyramid>,
     /// OR-reduced LOD-present bits: bit l of mip l texel q = some pixel of q's block has LOD l;
     /// only the even mips are built (an odd level's marks OR four texels of the mip below).
     /// Absent where the levels come from the foveation.
-    pub mask: Option<MipChain>,
+    pub mask: Option<OrPyramid>,
     /// Every level's stencil, side by side (absent for the naive comparison).
     pub stencil: Option<wgpu::Texture>,
     /// Every lit level, side by side; alpha 1 marks a shaded texel.
@@ -126,10 +126,6 @@ pub struct CpsRenderer {
     lod_pipeline: wgpu::RenderPipeline,
     /// Edge detection (content policy only).
     edge_pipeline: Option<wgpu::RenderPipeline>,
-    /// OR-reduces a mip chain's level from the one below (the edge pyramid), and from the one
-    /// two below (the LOD-present pyramid: even mips only).
-    mask_reduce_pipeline: wgpu::RenderPipeline,
-    mask_reduce_two_levels_pipeline: wgpu::RenderPipeline,
     /// Stencil marks, drawn at the start of the lighting pass.
     marks: Option<StencilMarks>,
     light_pipeline: wgpu::RenderPipeline,
@@ -142,7 +138,6 @@ impl CpsRenderer {
         let levels = plan.levels();
         let atlas = &plan.atlas;
         let lod = gpu.texture("lod", plan.padded, LOD, 1, target_usage() | wgpu::TextureUsages::COPY_DST);
-        let chain = |label, format| MipChain::new(gpu, label, plan.padded, levels, format, target_usage());
         let fullscreen =
             |label: &'static str, fragment, entry_point: &str, format: Option<wgpu::TextureFormat>, depth_stencil| {
                 FullscreenPipeline {
@@ -181,15 +176,17 @@ impl CpsRenderer {
                 None,
             ),
         };
-        let mask = (!plan.levels_from_foveation).then(|| chain("lod-present pyramid", MASK));
+        let pyramid = |label, step| OrPyramid::new(gpu, label, plan.padded, levels, step, target_usage());
+        let mask = (!plan.levels_from_foveation).then(|| pyramid("lod-present pyramid", 2));
         let level_uniforms: Vec<wgpu::Buffer> = (0..levels as usize)
             .map(|level| {
                 let (x, y) = atlas.origins[level];
                 uniform_buffer(gpu, "level", bytemuck::cast_slice(&[level as u32, x, y, 0]))
             })
             .collect();
-        let marks =
-            plan.stencil_pyramid.then(|| StencilMarks::new(gpu, &plan, &config.policy, mask.as_ref(), &level_uniforms));
+        let marks = plan
+            .stencil_pyramid
+            .then(|| StencilMarks::new(gpu, &plan, &config.policy, mask.as_ref().map(|m| &m.chain), &level_uniforms));
         let level_draws = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("level draws"),
             size: 16 * 9,
@@ -202,7 +199,7 @@ impl CpsRenderer {
         Ok(Self {
             lod_view: lod.create_view(&Default::default()),
             lod,
-            edges: plan.edge_pyramid.then(|| chain("edge pyramid", MASK)),
+            edges: plan.edge_pyramid.then(|| pyramid("edge pyramid", 1)),
             mask,
             stencil: plan.stencil_pyramid.then(|| gpu.texture("stencil atlas", atlas.size, STENCIL, 1, target_usage())),
             // Written by copies too: a case composites known shading (`composite_levels`).
@@ -212,20 +209,6 @@ impl CpsRenderer {
             level_uniforms,
             lod_pipeline,
             edge_pipeline,
-            mask_reduce_pipeline: fullscreen(
-                "mask reduce",
-                shaders::CPS_MASK_REDUCE,
-                "fs_mask_reduce",
-                Some(MASK),
-                None,
-            ),
-            mask_reduce_two_levels_pipeline: fullscreen(
-                "mask reduce two levels",
-                shaders::CPS_MASK_REDUCE,
-                "fs_mask_reduce_two_levels",
-                Some(MASK),
-                None,
-            ),
             marks,
             light_pipeline: fullscreen(
                 "light level",
@@ -328,18 +311,17 @@ impl CpsRenderer {
         timer.read(gpu).map(drop)
     }
 
-    /// Reduces `chain` upwards `step` mips a pass (labelled `label` and the mip): texel q ORs its
-    /// children in the mip `step` below — every mip (step 1), or only the even ones (step 2).
+    /// Reduces `pyramid` upwards, one pass (labelled `label` and the mip) a reduced mip: texel q
+    /// ORs its children in the mip `step` below.
     fn record_or_reduce(
         &self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
-        chain: &MipChain,
-        step: usize,
+        pyramid: &OrPyramid,
         label: &str,
         timer: &mut GpuTimer,
     ) {
-        let pipeline = if step == 1 { &self.mask_reduce_pipeline } else { &self.mask_reduce_two_levels_pipeline };
+        let (chain, pipeline, step) = (&pyramid.chain, &pyramid.reduce, pyramid.step);
         for level in (step..self.plan.levels() as usize).step_by(step) {
             let finer = wgpu::BindingResource::TextureView(&chain.level_views[level - step]);
             let group = bind_group(gpu, label, pipeline, 0, &[finer]);
@@ -385,7 +367,7 @@ impl CpsRenderer {
         &self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
-        edges: Option<&MipChain>,
+        edges: Option<&OrPyramid>,
         timer: &mut GpuTimer,
     ) {
         let screen = self.plan.screen;
@@ -394,7 +376,7 @@ impl CpsRenderer {
         let parameters = uniform_buffer(gpu, "lod parameters", bytemuck::cast_slice(&words));
         let mut resources = vec![(0, parameters.as_entire_binding())];
         if let Some(edges) = edges {
-            resources.push((1, wgpu::BindingResource::TextureView(&edges.all)));
+            resources.push((1, wgpu::BindingResource::TextureView(&edges.chain.all)));
         }
         if let LodPolicy::Explicit(_) = self.config.policy {
             resources.push((2, wgpu::BindingResource::TextureView(&self.lod_view)));
@@ -406,8 +388,8 @@ impl CpsRenderer {
             .then(|| bind_group(gpu, "level draws", &self.lod_pipeline, 1, &[self.level_draws.as_entire_binding()]));
         let written: Vec<&wgpu::TextureView> = match (&self.mask, &self.config.policy) {
             (None, _) => vec![&self.lod_view],
-            (Some(mask), LodPolicy::Explicit(_)) => vec![&mask.level_views[0]],
-            (Some(mask), _) => vec![&self.lod_view, &mask.level_views[0]],
+            (Some(mask), LodPolicy::Explicit(_)) => vec![&mask.chain.level_views[0]],
+            (Some(mask), _) => vec![&self.lod_view, &mask.chain.level_views[0]],
         };
         let mut pass = begin(
             encoder,
@@ -430,7 +412,7 @@ impl CpsRenderer {
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
         frame: &CpsFrame,
-        edges: &MipChain,
+        edges: &OrPyramid,
         (normal_cos, depth_ratio): (f32, f32),
         timer: &mut GpuTimer,
     ) {
@@ -452,7 +434,7 @@ impl CpsRenderer {
         {
             let targets = PassTargets {
                 keep_colours: false,
-                colours: &[&edges.level_views[0]],
+                colours: &[&edges.chain.level_views[0]],
                 stencil: None,
                 viewport: self.plan.screen,
             };
@@ -461,14 +443,14 @@ impl CpsRenderer {
             pass.set_bind_group(0, &group, &[]);
             pass.draw(0..3, 0..1);
         }
-        self.record_or_reduce(gpu, encoder, edges, 1, "edges", timer);
+        self.record_or_reduce(gpu, encoder, edges, "edges", timer);
     }
 
     /// The LOD-present mask's even coarser levels, one pass each (ORing the even one below), where
     /// the stencil marks read them.
     fn record_mask_pyramid(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
         if let (true, Some(mask)) = (self.plan.stencil_pyramid, &self.mask) {
-            self.record_or_reduce(gpu, encoder, mask, 2, "pyramid", timer);
+            self.record_or_reduce(gpu, encoder, mask, "pyramid", timer);
         }
     }
 
