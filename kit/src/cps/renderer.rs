@@ -1,6 +1,6 @@
 //! The CPS frame: LOD buffer and level 0 of the LOD-present mask (one pass) → the mask's even
-//! coarser levels (one pass each; not under the foveated policy, whose marks follow from the
-//! geometry) → one pass that marks every level's stencil, side by side in one atlas (one draw a
+//! coarser levels (one pass each) — neither under the foveated policy, whose passes compute a
+//! pixel's level where they need it → one pass that marks every level's stencil, side by side in one atlas (one draw a
 //! level), then lights every level behind stencil Equal (one draw a level, its viewport the level's
 //! rect) → composite. Targets and pipelines are made once per renderer; `render` records one frame
 //! in one encoder with a timestamp pair around every pass and an occlusion query around every
@@ -114,7 +114,8 @@ pub struct CpsRenderer {
     pub mask: Option<OrPyramid>,
     /// Every level's stencil, side by side (absent for the naive comparison).
     pub stencil: Option<wgpu::Texture>,
-    /// Every lit level, side by side; alpha 1 marks a shaded texel.
+    /// Every lit level, side by side; alpha 1 marks a shaded texel. Not cleared between frames:
+    /// a texel holds the last shading it got (the frame's stencil says which it shaded).
     pub lit: wgpu::Texture,
     /// The composite (`Rgba16Float`, screen-sized).
     pub image: wgpu::Texture,
