@@ -491,7 +491,7 @@ impl CpsRenderer {
         let mut pass = begin(encoder, "light", targets, timer, Some(queries.set()));
         // The marks first: draws of one pass see the stencil earlier draws wrote.
         if let Some(marks) = &self.marks {
-            marks.record(&mut pass, &self.plan);
+            marks.record(&mut pass, &self.plan, &self.level_draws);
             // Lit where marked: stencil Equal 1.
             pass.set_stencil_reference(1);
         }

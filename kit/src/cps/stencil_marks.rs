@@ -1,7 +1,7 @@
-//! The stencil marks: one draw a level at the start of the lighting pass, each marking (op
-//! Replace) the level's texels some pixel of whose block uses that level
-//! (shaders/cps/stencil_mark.wgsl) — from the LOD-present mask pyramid (an even and an odd
-//! level's pipeline), or where the levels come from the foveation from each block's geometry.
+//! The stencil marks: one draw a level at the start of the lighting pass (none for a level the LOD
+//! pass found absent), each marking (op Replace) the level's texels some pixel of whose block uses
+//! that level (shaders/cps/stencil_mark.wgsl) — from the LOD-present mask pyramid (an even and an
+//! odd level's pipeline), or where the levels come from the foveation from each block's geometry.
 
 use super::config::LodPolicy;
 use super::plan::Plan;
@@ -83,14 +83,21 @@ impl StencilMarks {
         Self { pipelines, level_groups }
     }
 
-    /// Every level's marks, into `pass` (stencil reference 1).
-    pub(super) fn record(&self, pass: &mut wgpu::RenderPass<'_>, plan: &Plan) {
+    /// Every level's marks, into `pass` (stencil reference 1). Where the plan skips absent
+    /// levels on the GPU, a level's marks are drawn with its lighting draw's indirect arguments
+    /// (`level_draws`): a level no pixel uses marks nothing, so its whole rect is not run through
+    /// the mark shader only to be discarded.
+    pub(super) fn record(&self, pass: &mut wgpu::RenderPass<'_>, plan: &Plan, level_draws: &wgpu::Buffer) {
         pass.set_stencil_reference(1);
         for (level, group) in self.level_groups.iter().enumerate() {
             pass.set_pipeline(&self.pipelines[level % self.pipelines.len()]);
             pass.set_bind_group(0, group, &[]);
             plan.set_level_viewport(pass, level);
-            pass.draw(0..3, 0..1);
+            if plan.skip_absent_levels_on_gpu {
+                pass.draw_indirect(level_draws, 16 * level as u64);
+            } else {
+                pass.draw(0..3, 0..1);
+            }
         }
     }
 }
