@@ -278,6 +278,8 @@ fn runs_recorded_in_a_database_compare_and_concurrent_writers_both_land(db: &str
     let (code, text) = fragkit(&["bench", "kit", "--rounds", "3", "--db", db, "--tag", "bench"]);
     assert_eq!(code, 0, "{text}");
     assert!(text.contains("stencil_equal_1.98pct") && text.contains("recorded as run"), "{text}");
+    // Three rounds: the median's interval is their range, which holds it with 1 − 2/8.
+    assert!(text.contains(", 75 % interval)"), "{text}");
 
     // Two processes importing at once: both runs land.
     let report = dir.join("report.json");

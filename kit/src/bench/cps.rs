@@ -98,9 +98,13 @@ impl Bench for CpsBench {
             ("texel_cost_in_full_resolution_pixels".to_owned(), texel_cost),
         ]);
         let passes = variant.counts.get("render_passes").copied().unwrap_or(0);
+        let percent = |speedup: f64| 100.0 * speedup / ideal;
+        let interval = variant.speedup_interval;
         let sentence = format!(
-            "ideal {ideal:.2}x from {shaded} shaded texels: {:.0} % of ideal; a shaded texel costs {texel_cost:.2} full-resolution pixels; {passes} render passes",
-            100.0 * variant.speedup / ideal
+            "ideal {ideal:.2}x from {shaded} shaded texels: {:.0} % of ideal ({:.0}–{:.0} %); a shaded texel costs {texel_cost:.2} full-resolution pixels; {passes} render passes",
+            percent(variant.speedup),
+            percent(interval.low),
+            percent(interval.high)
         );
         (derived, Some(sentence))
     }

@@ -15,8 +15,12 @@ use anyhow::{Result, bail};
 use serde::Serialize;
 
 use crate::gpu::{AdapterDescription, Gpu};
+use crate::harness::noise::{MedianInterval, median_interval};
 use crate::harness::report::{CaseRecord, ReportedOutcome};
 use crate::query::median;
+
+/// Confidence sought for the interval of a median speed-up.
+pub const SPEEDUP_CONFIDENCE: f64 = 0.95;
 
 /// One timed frame of a variant.
 #[derive(Clone, Debug, Default)]
@@ -80,6 +84,9 @@ pub struct VariantSummary {
     pub baseline: String,
     /// Median over the rounds of baseline / this variant (1 for a baseline).
     pub speedup: f64,
+    /// Where the median per-round speed-up lies, from the rounds' order statistics (no
+    /// distribution assumed): how far one invocation's figure can be trusted.
+    pub speedup_interval: MedianInterval,
     /// Median of each part over the rounds.
     pub parts: BTreeMap<String, f64>,
     pub counts: BTreeMap<String, u64>,
@@ -124,7 +131,9 @@ pub fn measure(gpu: &Gpu, technique: &str, bench: &mut dyn Bench, rounds: usize)
         .zip(&baselines)
         .map(|((name, own), &baseline)| {
             let gpu_ms: Vec<f64> = own.iter().map(|s| s.gpu_ms).collect();
-            let ratios = samples[baseline].iter().zip(own).map(|(b, s)| b.gpu_ms / s.gpu_ms).collect();
+            let ratios: Vec<f64> = samples[baseline].iter().zip(own).map(|(b, s)| b.gpu_ms / s.gpu_ms).collect();
+            let speedup_interval =
+                median_interval(&ratios, SPEEDUP_CONFIDENCE).expect("a bench runs at least one round");
             let mut parts = BTreeMap::new();
             for (part, _) in &own[0].parts {
                 let values =
@@ -137,6 +146,7 @@ pub fn measure(gpu: &Gpu, technique: &str, bench: &mut dyn Bench, rounds: usize)
                 gpu_ms,
                 baseline: variants[baseline].clone(),
                 speedup: median(ratios),
+                speedup_interval,
                 parts,
                 counts: own[0].counts.iter().map(|(c, n)| ((*c).to_owned(), *n)).collect(),
                 derived: BTreeMap::new(),
@@ -171,7 +181,13 @@ impl BenchResult {
             let speedup = if v.baseline == v.name {
                 "baseline".to_owned()
             } else {
-                format!("{:.2}x over {}", v.speedup, v.baseline)
+                let MedianInterval { low, high, coverage } = v.speedup_interval;
+                format!(
+                    "{:.2}x over {} ({low:.2}–{high:.2}x, {:.0} % interval)",
+                    v.speedup,
+                    v.baseline,
+                    100.0 * coverage
+                )
             };
             lines.push(format!("  {:<28} {:>9.2} ms{parts}  {speedup}", v.name, v.median_ms));
             if let Some(explanation) = &v.explanation {
@@ -191,6 +207,7 @@ impl BenchResult {
             .map(|v| {
                 let mut metrics = BTreeMap::from([
                     ("speedup".to_owned(), serde_json::json!(v.speedup)),
+                    ("speedup_interval".to_owned(), serde_json::json!(v.speedup_interval)),
                     ("rounds".to_owned(), serde_json::json!(self.rounds)),
                 ]);
                 for (name, value) in v.parts.iter().chain(&v.derived) {
