@@ -120,22 +120,22 @@ pub fn median_interval(values: &[f64], confidence: f64) -> Option<MedianInterval
     let mut sorted = values.to_vec();
     sorted.sort_by(f64::total_cmp);
     let n = sorted.len();
-    let (first, last) = (*sorted.first()?, *sorted.last()?);
-    // P(B ≤ j) for j = 0, 1, ..: C(n, j) / 2^n summed, C(n, j) built up as a ratio.
-    let mut below = 0.0;
-    let mut term = 0.5f64.powi(n as i32);
-    let mut interval = MedianInterval { low: first, high: last, coverage: 1.0 - 2.0 * term };
-    for k in 1..=n.div_ceil(2) {
-        // Coverage of ranks k..=n+1−k (1-based) is 1 − 2·P(B ≤ k − 1).
-        below += term;
-        let coverage = 1.0 - 2.0 * below;
-        if coverage < confidence {
+    if n == 0 {
+        return None;
+    }
+    // Start at the range (k = 1) and move inward while the next pair of ranks still reaches
+    // `confidence`; P(B = j) = C(n, j) / 2^n, each term the one before times (n − j + 1) / j.
+    let mut k = 1;
+    let mut term = 0.5f64.powi(n as i32); // P(B = k − 1)
+    let mut below = term; // P(B ≤ k − 1)
+    while 2 * k < n {
+        let next = term * (n - k + 1) as f64 / k as f64;
+        if 1.0 - 2.0 * (below + next) < confidence {
             break;
         }
-        interval = MedianInterval { low: sorted[k - 1], high: sorted[n - k], coverage };
-        term *= (n - k + 1) as f64 / k as f64;
+        (term, below, k) = (next, below + next, k + 1);
     }
-    Some(interval)
+    Some(MedianInterval { low: sorted[k - 1], high: sorted[n - k], coverage: 1.0 - 2.0 * below })
 }
 
 #[cfg(test)]
