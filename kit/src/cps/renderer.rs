@@ -98,6 +98,12 @@ fn begin<'e>(
     pass
 }
 
+/// Where level `level`'s indirect draw arguments (four `u32` words) start in
+/// `CpsRenderer::level_draws`, which the marks and the lighting draw of the level share.
+pub(super) fn level_draw_offset(level: usize) -> u64 {
+    16 * level as u64
+}
+
 pub struct CpsRenderer {
     pub config: CpsConfig,
     pub plan: Plan,
@@ -508,7 +514,7 @@ impl CpsRenderer {
             pass.set_bind_group(1, &group, &[]);
             self.plan.set_level_viewport(&mut pass, level);
             pass.begin_occlusion_query(level as u32);
-            pass.draw_indirect(&self.level_draws, 16 * level as u64);
+            pass.draw_indirect(&self.level_draws, level_draw_offset(level));
             pass.end_occlusion_query();
         }
     }

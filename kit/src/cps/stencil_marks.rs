@@ -5,7 +5,7 @@
 
 use super::config::LodPolicy;
 use super::plan::Plan;
-use super::renderer::STENCIL;
+use super::renderer::{STENCIL, level_draw_offset};
 use super::targets::MipChain;
 use crate::deferred::lighting::HDR;
 use crate::fullscreen::{FullscreenPipeline, bind_group_at, uniform_buffer};
@@ -83,21 +83,17 @@ impl StencilMarks {
         Self { pipelines, level_groups }
     }
 
-    /// Every level's marks, into `pass` (stencil reference 1). Where the plan skips absent
-    /// levels on the GPU, a level's marks are drawn with its lighting draw's indirect arguments
-    /// (`level_draws`): a level no pixel uses marks nothing, so its whole rect is not run through
-    /// the mark shader only to be discarded.
+    /// Every level's marks, into `pass` (stencil reference 1), each level drawn with its
+    /// lighting draw's indirect arguments (`level_draws`): where the plan skips absent levels on
+    /// the GPU, a level no pixel uses marks nothing, so its whole rect is not run through the
+    /// mark shader only to be discarded.
     pub(super) fn record(&self, pass: &mut wgpu::RenderPass<'_>, plan: &Plan, level_draws: &wgpu::Buffer) {
         pass.set_stencil_reference(1);
         for (level, group) in self.level_groups.iter().enumerate() {
             pass.set_pipeline(&self.pipelines[level % self.pipelines.len()]);
             pass.set_bind_group(0, group, &[]);
             plan.set_level_viewport(pass, level);
-            if plan.skip_absent_levels_on_gpu {
-                pass.draw_indirect(level_draws, 16 * level as u64);
-            } else {
-                pass.draw(0..3, 0..1);
-            }
+            pass.draw_indirect(level_draws, level_draw_offset(level));
         }
     }
 }
