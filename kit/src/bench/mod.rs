@@ -20,7 +20,7 @@ use crate::harness::report::{CaseRecord, ReportedOutcome};
 use crate::query::median;
 
 /// Confidence sought for the interval of a median speed-up.
-pub const SPEEDUP_CONFIDENCE: f64 = 0.95;
+const SPEEDUP_CONFIDENCE: f64 = 0.95;
 
 /// One timed frame of a variant.
 #[derive(Clone, Debug, Default)]

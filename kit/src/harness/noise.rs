@@ -103,11 +103,7 @@ pub fn median_and_spread(values: &[f64]) -> (f64, f64) {
     (median, 1.4826 * crate::query::median(deviations))
 }
 
-/// A distribution-free confidence interval of a median: the order statistics x(k) ≤ median ≤
-/// x(n+1−k) of `n` independent values hold the true median with probability
-/// 1 − 2·P(B ≤ k − 1), B ~ Binomial(n, ½), whatever the distribution. `k` is the largest rank
-/// that reaches `confidence`; with too few values for that, the whole range and the coverage it
-/// has (5 values: 93.75 %).
+/// A confidence interval of a median, and the probability that it holds it.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct MedianInterval {
     pub low: f64,
@@ -116,6 +112,11 @@ pub struct MedianInterval {
     pub coverage: f64,
 }
 
+/// The distribution-free interval of the median of `values` (None for none): the order
+/// statistics x(k) ≤ median ≤ x(n+1−k) of `n` independent values hold the true median with
+/// probability 1 − 2·P(B ≤ k − 1), B ~ Binomial(n, ½), whatever the distribution. `k` is the
+/// largest rank that reaches `confidence`; with too few values for that, the whole range and the
+/// coverage it has (5 values: 93.75 %).
 pub fn median_interval(values: &[f64], confidence: f64) -> Option<MedianInterval> {
     let mut sorted = values.to_vec();
     sorted.sort_by(f64::total_cmp);
