@@ -280,6 +280,11 @@ fn runs_recorded_in_a_database_compare_and_concurrent_writers_both_land(db: &str
     assert!(text.contains("stencil_equal_1.98pct") && text.contains("recorded as run"), "{text}");
     // Three rounds: the median's interval is their range, which holds it with 1 − 2/8.
     assert!(text.contains(", 75 % interval)"), "{text}");
+    // GL's occlusion queries do not count texels: CPS gets no ideal rather than a wrong one.
+    let (code, text) = fragkit(&["--backend", "gl", "bench", "cps", "--rounds", "1"]);
+    assert_eq!(code, 0, "{text}");
+    assert_eq!(text.matches("no ideal: this adapter's occlusion queries").count(), 3, "{text}");
+    assert!(!text.contains("% of ideal"), "{text}");
 
     // Two processes importing at once: both runs land.
     let report = dir.join("report.json");

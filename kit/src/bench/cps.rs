@@ -5,7 +5,8 @@
 //! stencil marks and lighting, one pass; the composite; full resolution: its lighting pass), the
 //! G-buffer excluded from both. Each CPS variant is set against the ideal speed-up its
 //! shaded texel count implies, with where the rest goes (the fixed passes, the cost per shaded
-//! texel).
+//! texel). Where the adapter's occlusion queries only say whether a level shaded (GL), there is
+//! no texel count and so no ideal to set a variant against.
 
 use std::collections::BTreeMap;
 
@@ -17,6 +18,7 @@ use crate::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy};
 use crate::deferred::DeferredInputs;
 use crate::deferred::lighting::FullResolution;
 use crate::gpu::Gpu;
+use crate::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 use crate::query::GpuTimer;
 use crate::scene::corridor::corridor;
 
@@ -29,6 +31,9 @@ pub struct CpsBench {
     inputs: DeferredInputs,
     full_resolution: FullResolution,
     renderers: Vec<(f32, CpsRenderer)>,
+    /// The occlusion queries count texels (kit.occlusion.exact), so the frame's shaded texels
+    /// are known.
+    counts_texels: bool,
 }
 
 impl CpsBench {
@@ -42,7 +47,8 @@ impl CpsBench {
                 Ok((inner_radius, CpsRenderer::new(gpu, SIZE, CpsConfig::new(5, policy, CompositeMode::Nearest))?))
             })
             .collect::<Result<_>>()?;
-        Ok(Self { full_resolution: FullResolution::new(gpu, SIZE), inputs, renderers })
+        let counts_texels = measure_occlusion_precision(gpu)? == OcclusionPrecision::Exact;
+        Ok(Self { full_resolution: FullResolution::new(gpu, SIZE), inputs, renderers, counts_texels })
     }
 }
 
@@ -76,15 +82,20 @@ impl Bench for CpsBench {
                 ("lighting_ms", out.gpu_ms("light")),
                 ("composite_ms", out.gpu_ms("composite")),
             ],
-            counts: vec![
-                ("shaded_texels", out.shaded_texels.iter().sum()),
-                ("render_passes", out.pass_times.len() as u64),
-            ],
+            counts: [("shaded_texels", out.shaded_texels.iter().sum()), ("render_passes", out.pass_times.len() as u64)]
+                .into_iter()
+                .filter(|&(count, _)| self.counts_texels || count != "shaded_texels")
+                .collect(),
         })
     }
 
     fn explain(&self, variant: &VariantSummary, baseline: &VariantSummary) -> (BTreeMap<String, f64>, Option<String>) {
-        let Some(&shaded) = variant.counts.get("shaded_texels") else { return (BTreeMap::new(), None) };
+        // Only the CPS variants count their passes; full resolution has nothing to explain.
+        let Some(&passes) = variant.counts.get("render_passes") else { return (BTreeMap::new(), None) };
+        let Some(&shaded) = variant.counts.get("shaded_texels") else {
+            let why = "no ideal: this adapter's occlusion queries say only whether a level shaded, not how many texels (kit.occlusion.exact)";
+            return (BTreeMap::new(), Some(format!("{why}; {passes} render passes")));
+        };
         let pixels = f64::from(SIZE.0 * SIZE.1);
         let ideal = pixels / shaded as f64;
         let lighting = variant.parts.get("lighting_ms").copied().unwrap_or(0.0);
@@ -97,7 +108,6 @@ impl Bench for CpsBench {
             ("fraction_of_ideal".to_owned(), variant.speedup / ideal),
             ("texel_cost_in_full_resolution_pixels".to_owned(), texel_cost),
         ]);
-        let passes = variant.counts.get("render_passes").copied().unwrap_or(0);
         let percent = |speedup: f64| 100.0 * speedup / ideal;
         let interval = variant.speedup_interval;
         let sentence = format!(
