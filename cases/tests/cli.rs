@@ -283,7 +283,8 @@ fn runs_recorded_in_a_database_compare_and_concurrent_writers_both_land(db: &str
     // GL's occlusion queries do not count texels: CPS gets no ideal rather than a wrong one.
     let (code, text) = fragkit(&["--backend", "gl", "bench", "cps", "--rounds", "1"]);
     assert_eq!(code, 0, "{text}");
-    assert_eq!(text.matches("no ideal: this adapter's occlusion queries").count(), 3, "{text}");
+    assert_eq!(text.matches("no ideal from texel counts: this adapter's occlusion queries").count(), 3, "{text}");
+    assert_eq!(text.matches(" % of it; 2 render passes").count(), 3, "{text}");
     assert!(!text.contains("% of ideal"), "{text}");
 
     // Two processes importing at once: both runs land.

@@ -99,6 +99,21 @@ pub fn sample_pixel(screen: (u32, u32), level: u32, texel: [i64; 2]) -> [i64; 2]
     [0, 1].map(|i| ((texel[i] << level) + ((1 << level) >> 1)).min(last[i]))
 }
 
+/// The sample pixel (row-major index) of every texel each level 0..=top must shade for `lod`,
+/// level by level, each level's texels row by row: the G-buffer samples a CPS frame lights.
+pub fn shaded_samples(screen: (u32, u32), lod: &[u8], top: u32) -> Vec<u32> {
+    let mut samples = Vec::new();
+    for level in 0..=top {
+        let (width, _) = level_extent(screen, level);
+        for (i, _) in needed_texels(screen, lod, top, level).into_iter().enumerate().filter(|&(_, needed)| needed) {
+            let texel = [i64::from(i as u32 % width), i64::from(i as u32 / width)];
+            let [x, y] = sample_pixel(screen, level, texel);
+            samples.push((y * i64::from(screen.0) + x) as u32);
+        }
+    }
+    samples
+}
+
 /// Levels 0..=top whose every texel holds `shading` at its sample pixel: lit levels as the
 /// lighting pass would leave them for shading that is a known function of screen position.
 pub fn sampled_levels(screen: (u32, u32), top: u32, shading: impl Fn([i64; 2]) -> [f32; 4]) -> Vec<Level> {
@@ -352,6 +367,9 @@ mod tests {
         assert_eq!(expected_shaded_texels((3, 2), &lod, 2), vec![2, 2, 1]);
         // Clamped: LOD 2 counts at top level 1.
         assert_eq!(expected_shaded_texels((3, 2), &lod, 1), vec![2, 2]);
+        // Their samples: level 0 pixels (0,0), (0,1); level 1 texels (0,0), (1,0) at pixels (1,1)
+        // and (2,1) (the centre clamped to the screen); level 2 texel (0,0) at (2,1).
+        assert_eq!(shaded_samples((3, 2), &lod, 2), vec![0, 3, 4, 5, 5]);
     }
 
     /// Shading linear in screen position, in [1, 2) over the tests' screens.

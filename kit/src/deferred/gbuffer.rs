@@ -131,6 +131,41 @@ impl GbufferPass {
     }
 }
 
+/// A G-buffer holding `source`'s samples at `pixels` (row-major indices), in that order, row by
+/// row in a texture about as wide as tall; the texels after the last hold no surface
+/// (background). For timing a pass over exactly those samples (the CPS bench's reference).
+pub fn gather(gpu: &Gpu, source: &Gbuffer, pixels: &[u32]) -> Result<Gbuffer> {
+    let count = pixels.len().max(1) as u32;
+    let width = count.isqrt().max(1);
+    let size = (width, count.div_ceil(width));
+    check_size(gpu, size)?;
+    let usage = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC;
+    let gathered = |texture: &wgpu::Texture, label: &str, format: wgpu::TextureFormat| -> Result<wgpu::Texture> {
+        let texels = crate::readback::read_texture(gpu, texture, wgpu::TextureAspect::All, 0)?;
+        let bytes = texels.bytes_per_texel as usize;
+        let mut data = vec![0u8; (size.0 * size.1) as usize * bytes];
+        for (at, &pixel) in data.chunks_exact_mut(bytes).zip(pixels) {
+            let from = pixel as usize * bytes;
+            at.copy_from_slice(&texels.bytes[from..from + bytes]);
+        }
+        let target = gpu.texture(label, size, format, 1, usage);
+        gpu.queue.write_texture(
+            target.as_image_copy(),
+            &data,
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(size.0 * bytes as u32), rows_per_image: None },
+            wgpu::Extent3d { width: size.0, height: size.1, depth_or_array_layers: 1 },
+        );
+        Ok(target)
+    };
+    let position = gathered(&source.position, "gathered position", POSITION)?;
+    let normal = gathered(&source.normal, "gathered normal", NORMAL)?;
+    let albedo = gathered(&source.albedo, "gathered albedo", ALBEDO)?;
+    // No pass reads a gathered sample's depth.
+    let depth = gpu.texture("gathered depth", size, DEPTH, 1, wgpu::TextureUsages::RENDER_ATTACHMENT);
+    let views = [&position, &normal, &albedo].map(|t| t.create_view(&Default::default()));
+    Ok(Gbuffer { size, position, normal, albedo, depth, views })
+}
+
 /// Renders the scene's G-buffer at `size` once.
 pub fn render_gbuffer(gpu: &Gpu, scene: &Scene, size: (u32, u32), timer: &mut GpuTimer) -> Result<Gbuffer> {
     let pass = GbufferPass::new(gpu, size)?;
