@@ -286,6 +286,7 @@ fn runs_recorded_in_a_database_compare_and_concurrent_writers_both_land(db: &str
     assert_eq!(text.matches("no ideal from texel counts: this adapter's occlusion queries").count(), 3, "{text}");
     assert_eq!(text.matches(" % of it; 2 render passes").count(), 3, "{text}");
     assert!(!text.contains("% of ideal"), "{text}");
+    assert_eq!(text.matches("(one round: no interval)").count(), 3, "{text}");
 
     // Two processes importing at once: both runs land.
     let report = dir.join("report.json");

@@ -182,12 +182,13 @@ impl BenchResult {
                 "baseline".to_owned()
             } else {
                 let MedianInterval { low, high, coverage } = v.speedup_interval;
-                format!(
-                    "{:.2}x over {} ({low:.2}–{high:.2}x, {:.0} % interval)",
-                    v.speedup,
-                    v.baseline,
-                    100.0 * coverage
-                )
+                // One round's ratio is the median itself, held by no interval.
+                let interval = if coverage > 0.0 {
+                    format!("{low:.2}–{high:.2}x, {:.0} % interval", 100.0 * coverage)
+                } else {
+                    "one round: no interval".to_owned()
+                };
+                format!("{:.2}x over {} ({interval})", v.speedup, v.baseline)
             };
             lines.push(format!("  {:<28} {:>9.2} ms{parts}  {speedup}", v.name, v.median_ms));
             if let Some(explanation) = &v.explanation {
