@@ -1,11 +1,32 @@
-// Foveated LOD, shared by the LOD pass (cps/lod.wgsl) and the stencil marks that follow from it
-// analytically (cps/stencil_mark.wgsl): a pixel is log2(1 + distance / inner_radius) octaves from
-// the focus, and its level is the whole octaves, capped at the plan's top level.
+// Foveated LOD, shared by the LOD pass (cps/lod.wgsl), the stencil marks that follow from it
+// analytically (cps/stencil_mark.wgsl) and the composite (cps/composite.wgsl): a pixel's level is
+// the whole octaves of 1 + distance / inner_radius from the focus, capped at the plan's top level.
+// So its level is k or more exactly where its distance is at least R_k = inner_radius (2^k − 1):
+// a pass counts the squared boundaries R_k² its squared distance reaches, comparisons instead of a
+// log2 per pixel. The CPU computes R_k² in f64 and rounds it (`LodPolicy::foveation_words`; past
+// the top level the largest f32, which no distance reaches). A squared distance of f32 inputs errs
+// by a few 2^-24 of itself: a pixel's level may differ from the definition only within about
+// 2^-22 octaves of a boundary, far inside the CPU model's ambiguity band (2^-17, cps/lod_model.rs).
 
-fn foveated_octaves(pixel_centre: vec2f, focus: vec2f, inner_radius: f32) -> f32 {
-    return log2(1.0 + length(pixel_centre - focus) / max(inner_radius, 1e-3));
+struct Foveation {
+    // The focus in pixels.
+    focus: vec2f,
+    // R_k² for k = 1..8, in order.
+    squared_boundaries: array<vec4f, 2>,
 }
 
-fn level_of_octaves(octaves: f32, max_level: u32) -> u32 {
-    return min(u32(max(floor(octaves), 0.0)), max_level);
+fn squared_distance_to_focus(pixel_centre: vec2f, foveation: Foveation) -> f32 {
+    let offset = pixel_centre - foveation.focus;
+    return dot(offset, offset);
+}
+
+// The level of a pixel at squared distance `squared` from the focus: the boundaries it reaches.
+fn level_of_squared_distance(squared: f32, foveation: Foveation) -> u32 {
+    let reached = select(vec4u(0u), vec4u(1u), vec4f(squared) >= foveation.squared_boundaries[0])
+        + select(vec4u(0u), vec4u(1u), vec4f(squared) >= foveation.squared_boundaries[1]);
+    return reached.x + reached.y + reached.z + reached.w;
+}
+
+fn foveated_level(pixel_centre: vec2f, foveation: Foveation) -> u32 {
+    return level_of_squared_distance(squared_distance_to_focus(pixel_centre, foveation), foveation);
 }

@@ -10,9 +10,8 @@ struct Composite {
     screen: vec2u,
     // Where each level's texels start in the lit atlas (xy).
     origins: array<vec4u, 9>,
-    // The foveated policy's focus in pixels and inner radius (read where `foveated`).
-    focus: vec2f,
-    inner_radius: f32,
+    // The foveated policy (read where `foveated`).
+    foveation: Foveation,
 }
 
 // The plan's levels_from_foveation.
@@ -27,7 +26,7 @@ override foveated: bool;
 fn level_of(pixel: vec2i) -> u32 {
     let clamped = vec2u(clamp(pixel, vec2i(0), vec2i(composite.screen) - 1));
     if foveated {
-        return level_of_octaves(foveated_octaves(vec2f(clamped) + 0.5, composite.focus, composite.inner_radius), composite.max_level);
+        return foveated_level(vec2f(clamped) + 0.5, composite.foveation);
     }
     return min(textureLoad(lod, clamped, 0).x, composite.max_level);
 }

@@ -2,7 +2,7 @@
 // under the frame's policy, written to the LOD buffer (`R8Uint`) and as the bit 1 << level to mip
 // 0 of the mask pyramid. Foveated: level 0 within `inner_radius` pixels of the focus point, one
 // level coarser each time the distance doubles (level = floor(log2(1 + distance /
-// inner_radius))). Content: the coarsest level l whose aligned 2^l block around the pixel holds
+// inner_radius)), common/foveation.wgsl). Content: the coarsest level l whose aligned 2^l block around the pixel holds
 // no edge, read from the OR-reduced edge pyramid (edge_pyramid mip l, texel pixel >> l). The
 // caller's own LOD, uploaded, is only read (fs_lod_present*). Levels are capped at the plan's top
 // level. Where the plan skips absent levels on the GPU (the *_counted entry points), each pixel
@@ -10,9 +10,8 @@
 // instances, without a read-back.
 
 struct LodParameters {
-    // Foveated only: the focus in pixels and the inner radius.
-    focus: vec2f,
-    inner_radius: f32,
+    // Foveated only.
+    foveation: Foveation,
     // The plan's top level.
     max_level: u32,
 }
@@ -31,8 +30,8 @@ struct DrawIndirect {
 @group(0) @binding(2) var lod: texture_2d<u32>;
 @group(1) @binding(0) var<storage, read_write> level_draws: array<DrawIndirect, 9>;
 
-fn foveated_level(position: vec4f) -> u32 {
-    return level_of_octaves(foveated_octaves(position.xy, parameters.focus, parameters.inner_radius), parameters.max_level);
+fn pixel_foveated_level(position: vec4f) -> u32 {
+    return foveated_level(position.xy, parameters.foveation);
 }
 
 fn content_level(position: vec4f) -> u32 {
@@ -67,19 +66,19 @@ fn lod_and_present(level: u32) -> LodAndPresent {
 
 @fragment
 fn fs_lod_foveated(@builtin(position) position: vec4f) -> LodAndPresent {
-    return lod_and_present(foveated_level(position));
+    return lod_and_present(pixel_foveated_level(position));
 }
 
 // The LOD alone, for a frame whose passes compute the foveated level where they need it: the
 // LOD picture, rendered on request (CpsRenderer::read_lod).
 @fragment
 fn fs_lod_foveated_alone(@builtin(position) position: vec4f) -> @location(0) u32 {
-    return foveated_level(position);
+    return pixel_foveated_level(position);
 }
 
 @fragment
 fn fs_lod_foveated_counted(@builtin(position) position: vec4f) -> LodAndPresent {
-    return lod_and_present(counted(foveated_level(position)));
+    return lod_and_present(counted(pixel_foveated_level(position)));
 }
 
 @fragment

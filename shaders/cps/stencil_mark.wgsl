@@ -18,20 +18,18 @@ struct AtlasLevel {
 @group(0) @binding(0) var mask: texture_2d<u32>;
 @group(0) @binding(1) var<uniform> target_level: AtlasLevel;
 
-// The foveated policy's parameters, as the LOD pass has them, and the screen.
-struct Foveation {
-    focus: vec2f,
-    inner_radius: f32,
-    max_level: u32,
+// The foveated policy, as the LOD pass has it, and the screen.
+struct FoveatedMarks {
+    foveation: Foveation,
     screen: vec2u,
 }
 
-@group(0) @binding(2) var<uniform> foveation: Foveation;
+@group(0) @binding(2) var<uniform> marks: FoveatedMarks;
 
-// How far the marks widen a block's octaves (2^-18), at least twice the GPU's error in a pixel's
-// octaves (log2 within 2^-21, the distance's relative 2^-21): no pixel the LOD pass gives a level
-// lies outside the block's marked range.
-const MARK_WIDENING: f32 = 3.814697265625e-6;
+// How far the marks widen a block's squared distances (2^-20 of them), many times the GPU's error
+// in a squared distance (a few 2^-24): no pixel the LOD pass or the composite gives a level lies
+// outside the block's marked range.
+const MARK_WIDENING: f32 = 9.5367431640625e-7;
 
 fn texel_of_level(position: vec4f) -> vec2u {
     return vec2u(position.xy) - vec2u(target_level.origin_x, target_level.origin_y);
@@ -74,13 +72,13 @@ fn fs_stencil_mark_odd(@builtin(position) position: vec4f) {
 fn fs_stencil_mark_foveated(@builtin(position) position: vec4f) {
     let level = target_level.level;
     let first = texel_of_level(position) << vec2u(level);
-    let last = min(first + vec2u((1u << level) - 1u), foveation.screen - 1u);
+    let last = min(first + vec2u((1u << level) - 1u), marks.screen - 1u);
+    let foveation = marks.foveation;
     let focus = foveation.focus;
     let nearest = clamp(floor(focus), vec2f(first), vec2f(last));
     let farthest = select(vec2f(first), vec2f(last), vec2f(last) + 0.5 - focus > focus - (vec2f(first) + 0.5));
-    let radius = foveation.inner_radius;
-    let finest = level_of_octaves(foveated_octaves(nearest + 0.5, focus, radius) - MARK_WIDENING, foveation.max_level);
-    let coarsest = level_of_octaves(foveated_octaves(farthest + 0.5, focus, radius) + MARK_WIDENING, foveation.max_level);
+    let finest = level_of_squared_distance(squared_distance_to_focus(nearest + 0.5, foveation) * (1.0 - MARK_WIDENING), foveation);
+    let coarsest = level_of_squared_distance(squared_distance_to_focus(farthest + 0.5, foveation) * (1.0 + MARK_WIDENING), foveation);
     if level < finest || level > coarsest {
         discard;
     }

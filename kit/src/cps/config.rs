@@ -36,15 +36,24 @@ impl LodPolicy {
         }
     }
 
-    /// The foveated policy's focus in pixels of `screen` and its inner radius, as f32 bits (as the
-    /// shaders take them); zeros for the other policies.
-    pub fn foveation_words(&self, screen: (u32, u32)) -> [u32; 3] {
-        match self {
-            Self::Foveated { focus, inner_radius } => {
-                [(focus.0 * screen.0 as f32).to_bits(), (focus.1 * screen.1 as f32).to_bits(), inner_radius.to_bits()]
+    /// The foveated policy as the shaders take it (`Foveation` in common/foveation.wgsl, f32
+    /// bits): the focus in pixels of `screen`, two words of padding, then the squared level
+    /// boundaries (inner_radius (2^k − 1))² for k = 1..=8, computed in f64 and rounded, the
+    /// largest f32 past `top` (no pixel is coarser than the plan's top level); zeros for the
+    /// other policies.
+    pub fn foveation_words(&self, screen: (u32, u32), top: u32) -> [u32; 12] {
+        let mut words = [0.0f32.to_bits(); 12];
+        if let Self::Foveated { focus, inner_radius } = self {
+            words[0] = (focus.0 * screen.0 as f32).to_bits();
+            words[1] = (focus.1 * screen.1 as f32).to_bits();
+            let radius = f64::from(inner_radius.max(1e-3));
+            for k in 1..=MAX_LEVEL {
+                let boundary = radius * (f64::from(1u32 << k) - 1.0);
+                let squared = if k <= top { (boundary * boundary) as f32 } else { f32::MAX };
+                words[3 + k as usize] = squared.to_bits();
             }
-            _ => [0.0f32.to_bits(); 3],
         }
+        words
     }
 
     /// Parses `foveated` or `content` (explicit policies come through the API).

@@ -12,11 +12,11 @@ use super::config::LodPolicy;
 use crate::deferred::phong::Surface;
 use crate::scene::hash::SeededRng;
 
-/// log2's absolute error on the GPU is within 2^-21 (Vulkan's bound on 0.5..2, and relative 3 ulp
-/// elsewhere), the distance's relative error within 2^-21 moves log2 by 2^-21 / ln 2: a level
-/// boundary closer than 2^-19 in log2 may fall either way. The stencil marks widen a block's
-/// octaves by 2^-18 more (shaders/cps/stencil_mark.wgsl): within 2^-17, a block may be marked for
-/// the level across the boundary too.
+/// The GPU compares a pixel's f32 squared distance with the f32-rounded squared boundaries
+/// (shaders/common/foveation.wgsl), each within a few 2^-24 of itself: a level boundary closer
+/// than about 2^-22 in log2 may fall either way. The stencil marks widen a block's squared
+/// distances by 2^-20 more (shaders/cps/stencil_mark.wgsl), under 2^-20 in log2: within 2^-17,
+/// a block may be marked for the level across the boundary too.
 const LOG2_AMBIGUITY: f64 = 1.0 / (1u64 << 17) as f64;
 
 /// A comparison of two f32 results whose difference is within 2^-20 of their magnitude may fall

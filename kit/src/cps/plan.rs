@@ -44,7 +44,8 @@ pub struct Plan {
 /// The texels of `level` (below the top) that can hold a pixel of that level under the foveated
 /// policy: level(d) = floor(log2(1 + d / r)) ≤ level only for d < r (2^(level+1) − 1), so its
 /// pixels lie in that disk around the focus — widened by 2^-16 of it and a pixel for the GPU's
-/// f32 log2 and distance (whose errors are within 2^-20) — and its texels in the disk's box.
+/// f32 squared distance and the marks' widening (together within 2^-19 of it) — and its texels in
+/// the disk's box.
 fn foveated_bounds(screen: (u32, u32), focus: (f32, f32), inner_radius: f32, level: u32) -> (u32, u32, u32, u32) {
     let radius = f64::from(inner_radius.max(1e-3)) * (f64::from(2u32 << level) - 1.0);
     let reach = radius * (1.0 + 1.0 / 65536.0) + 1.0;

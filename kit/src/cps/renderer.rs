@@ -378,8 +378,8 @@ impl CpsRenderer {
         timer: &mut GpuTimer,
     ) {
         let screen = self.plan.screen;
-        let [x, y, radius] = self.config.policy.foveation_words(screen);
-        let words = [x, y, radius, self.plan.top_level];
+        let mut words = self.config.policy.foveation_words(screen, self.plan.top_level).to_vec();
+        words.extend([self.plan.top_level, 0, 0, 0]);
         let parameters = uniform_buffer(gpu, "lod parameters", bytemuck::cast_slice(&words));
         let mut resources = vec![(0, parameters.as_entire_binding())];
         if let Some(edges) = edges {
@@ -526,8 +526,7 @@ impl CpsRenderer {
             let (x, y) = self.plan.atlas.origins.get(level).copied().unwrap_or_default();
             words.extend([x, y, 0, 0]);
         }
-        words.extend(self.config.policy.foveation_words(self.plan.screen));
-        words.push(0);
+        words.extend(self.config.policy.foveation_words(self.plan.screen, self.plan.top_level));
         let uniform = uniform_buffer(gpu, "composite", bytemuck::cast_slice(&words));
         let lit = self.lit.create_view(&Default::default());
         let resources = [

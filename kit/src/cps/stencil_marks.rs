@@ -60,8 +60,8 @@ impl StencilMarks {
             Some(mask) => (Some(&mask.all), None),
             None => {
                 let (w, h) = plan.screen;
-                let [x, y, radius] = policy.foveation_words(plan.screen);
-                let words = [x, y, radius, plan.top_level, w, h, 0, 0];
+                let mut words = policy.foveation_words(plan.screen, plan.top_level).to_vec();
+                words.extend([w, h, 0, 0]);
                 (None, Some(uniform_buffer(gpu, "foveation", bytemuck::cast_slice(&words))))
             }
         };
