@@ -36,8 +36,9 @@ pub struct Plan {
     pub atlas: LevelAtlas,
     /// Per level, the texels (x, y, width, height within the level) that can be needed: the whole
     /// level, or under the foveated policy with a stencil pyramid the box around the disk the
-    /// level's pixels lie in. The marks and the lighting draw only there (scissor): the rest of a
-    /// level's rect could only be discarded or stencil-rejected, texel by texel.
+    /// level's pixels lie in. The marks (a quad over the bounds, or a scissor) and the lighting
+    /// (a scissor) draw only there: the rest of a level's rect could only be discarded or
+    /// stencil-rejected, texel by texel.
     pub level_bounds: Vec<(u32, u32, u32, u32)>,
 }
 

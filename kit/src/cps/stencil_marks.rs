@@ -1,7 +1,8 @@
-//! The stencil marks: one draw a level at the start of the lighting pass (none for a level the LOD
-//! pass found absent), each marking (op Replace) the level's texels some pixel of whose block uses
-//! that level (shaders/cps/stencil_mark.wgsl) — from the LOD-present mask pyramid (an even and an
-//! odd level's pipeline), or where the levels come from the foveation from each block's geometry.
+//! The stencil marks, at the start of the lighting pass, marking (op Replace) each level's texels
+//! some pixel of whose block uses that level (shaders/cps/stencil_mark.wgsl): from the LOD-present
+//! mask pyramid, one draw a level (an even and an odd level's pipeline; none for a level the LOD
+//! pass found absent), or where the levels come from the foveation, from each block's geometry in
+//! one instanced draw.
 
 use super::config::LodPolicy;
 use super::plan::Plan;
@@ -13,10 +14,21 @@ use crate::gpu::Gpu;
 use crate::rects::stencil_state;
 use crate::shaders;
 
-pub(super) struct StencilMarks {
-    pipelines: Vec<wgpu::RenderPipeline>,
-    /// Each level's bind group, made once.
-    level_groups: Vec<wgpu::BindGroup>,
+/// The marks' draws: one a level from the pyramid, or one instanced draw from the foveation.
+pub(super) enum StencilMarks {
+    /// The even and the odd levels' pipelines, and each level's bind group.
+    Pyramid { pipelines: [wgpu::RenderPipeline; 2], level_groups: Vec<wgpu::BindGroup> },
+    /// One pipeline and bind group for every level: an instance a level, its quad the level's
+    /// bounds.
+    Foveated { pipeline: wgpu::RenderPipeline, group: wgpu::BindGroup, levels: u32 },
+}
+
+/// In the lighting pass: its colour target, left unwritten.
+const UNWRITTEN: [Option<wgpu::ColorTargetState>; 1] =
+    [Some(wgpu::ColorTargetState { format: HDR, blend: None, write_mask: wgpu::ColorWrites::empty() })];
+
+fn marking() -> wgpu::DepthStencilState {
+    stencil_state(STENCIL, wgpu::CompareFunction::Always, wgpu::StencilOperation::Replace)
 }
 
 impl StencilMarks {
@@ -29,71 +41,95 @@ impl StencilMarks {
         mask: Option<&MipChain>,
         level_uniforms: &[wgpu::Buffer],
     ) -> Self {
-        let entry_points: &[&str] = if mask.is_none() {
-            &["fs_stencil_mark_foveated"]
-        } else {
-            &["fs_stencil_mark_even", "fs_stencil_mark_odd"]
-        };
-        // In the lighting pass: its colour target, left unwritten.
-        let unwritten =
-            [Some(wgpu::ColorTargetState { format: HDR, blend: None, write_mask: wgpu::ColorWrites::empty() })];
-        let pipelines: Vec<wgpu::RenderPipeline> = entry_points
-            .iter()
-            .map(|entry_point| {
-                FullscreenPipeline {
-                    label: "stencil mark",
-                    fragment: shaders::CPS_STENCIL_MARK,
-                    entry_point,
-                    targets: &unwritten,
-                    depth_stencil: Some(stencil_state(
-                        STENCIL,
-                        wgpu::CompareFunction::Always,
-                        wgpu::StencilOperation::Replace,
-                    )),
-                    samples: 1,
-                }
-                .create(gpu)
-            })
-            .collect();
-        // What the marks read: the pyramid, or the foveation with the screen.
-        let (mask, foveation) = match mask {
-            Some(mask) => (Some(&mask.all), None),
-            None => {
-                let (w, h) = plan.screen;
-                let mut words = policy.foveation_words(plan.screen, plan.top_level).to_vec();
-                words.extend([w, h, 0, 0]);
-                (None, Some(uniform_buffer(gpu, "foveation", bytemuck::cast_slice(&words))))
+        let Some(mask) = mask else { return Self::foveated(gpu, plan, policy) };
+        let pipelines = ["fs_stencil_mark_even", "fs_stencil_mark_odd"].map(|entry_point| {
+            FullscreenPipeline {
+                label: "stencil mark",
+                fragment: shaders::CPS_STENCIL_MARK,
+                entry_point,
+                targets: &UNWRITTEN,
+                depth_stencil: Some(marking()),
+                samples: 1,
             }
-        };
+            .create(gpu)
+        });
         let level_groups = level_uniforms
             .iter()
             .enumerate()
             .map(|(level, uniform)| {
-                let pipeline = &pipelines[level % pipelines.len()];
-                let mut resources = vec![(1, uniform.as_entire_binding())];
-                if let Some(mask) = mask {
-                    resources.push((0, wgpu::BindingResource::TextureView(mask)));
-                }
-                if let Some(foveation) = &foveation {
-                    resources.push((2, foveation.as_entire_binding()));
-                }
-                bind_group_at(gpu, "stencil mark", pipeline, 0, &resources)
+                let resources =
+                    [(0, wgpu::BindingResource::TextureView(&mask.all)), (1, uniform.as_entire_binding())];
+                bind_group_at(gpu, "stencil mark", &pipelines[level % 2], 0, &resources)
             })
             .collect();
-        Self { pipelines, level_groups }
+        Self::Pyramid { pipelines, level_groups }
     }
 
-    /// Every level's marks, into `pass` (stencil reference 1), each level drawn with its
-    /// lighting draw's indirect arguments (`level_draws`): where the plan skips absent levels on
-    /// the GPU, a level no pixel uses marks nothing, so its whole rect is not run through the
-    /// mark shader only to be discarded.
+    /// Every level's marks from the foveation, in one draw.
+    fn foveated(gpu: &Gpu, plan: &Plan, policy: &LodPolicy) -> Self {
+        let module = shaders::CPS_STENCIL_MARK.module(gpu);
+        let pipeline = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("foveated stencil marks"),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_level_bounds"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: Some(marking()),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_stencil_mark_foveated"),
+                compilation_options: Default::default(),
+                targets: &UNWRITTEN,
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let (w, h) = plan.screen;
+        let mut words = policy.foveation_words(plan.screen, plan.top_level).to_vec();
+        words.extend([w, h, plan.atlas.size.0, plan.atlas.size.1]);
+        let levels = plan.levels() as usize;
+        let mut bounds = [[0u32; 4]; 9];
+        let mut origins = [[0u32; 4]; 9];
+        for level in 0..levels {
+            let (x, y, _, _) = plan.atlas.rect(level);
+            let (bx, by, bw, bh) = plan.level_bounds[level];
+            bounds[level] = [x + bx, y + by, x + bx + bw, y + by + bh];
+            origins[level] = [x, y, 0, 0];
+        }
+        words.extend(bounds.iter().chain(&origins).flatten());
+        let uniform = uniform_buffer(gpu, "foveated marks", bytemuck::cast_slice(&words));
+        let group = bind_group_at(gpu, "foveated stencil marks", &pipeline, 0, &[(2, uniform.as_entire_binding())]);
+        Self::Foveated { pipeline, group, levels: levels as u32 }
+    }
+
+    /// Every level's marks, into `pass` (stencil reference 1). From the pyramid, each level is
+    /// drawn with its lighting draw's indirect arguments (`level_draws`): where the plan skips
+    /// absent levels on the GPU, a level no pixel uses marks nothing, so its whole rect is not run
+    /// through the mark shader only to be discarded.
     pub(super) fn record(&self, pass: &mut wgpu::RenderPass<'_>, plan: &Plan, level_draws: &wgpu::Buffer) {
         pass.set_stencil_reference(1);
-        for (level, group) in self.level_groups.iter().enumerate() {
-            pass.set_pipeline(&self.pipelines[level % self.pipelines.len()]);
-            pass.set_bind_group(0, group, &[]);
-            plan.set_level_viewport(pass, level);
-            pass.draw_indirect(level_draws, level_draw_offset(level));
+        match self {
+            Self::Pyramid { pipelines, level_groups } => {
+                for (level, group) in level_groups.iter().enumerate() {
+                    pass.set_pipeline(&pipelines[level % 2]);
+                    pass.set_bind_group(0, group, &[]);
+                    plan.set_level_viewport(pass, level);
+                    pass.draw_indirect(level_draws, level_draw_offset(level));
+                }
+            }
+            Self::Foveated { pipeline, group, levels } => {
+                let (w, h) = plan.atlas.size;
+                pass.set_viewport(0.0, 0.0, w as f32, h as f32, 0.0, 1.0);
+                pass.set_scissor_rect(0, 0, w, h);
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, group, &[]);
+                pass.draw(0..6, 0..*levels);
+            }
         }
     }
 }
