@@ -1,10 +1,11 @@
 //! The CPS frame: LOD buffer and level 0 of the LOD-present mask (one pass) → the mask's even
 //! coarser levels (one pass each) — neither under the foveated policy, whose passes compute a
-//! pixel's level where they need it → one pass that marks every level's stencil, side by side in one atlas (one draw a
-//! level; under the foveated policy one instanced draw for all), then lights every level behind stencil Equal (one draw a level, its viewport the level's
-//! rect) → composite. Targets and pipelines are made once per renderer; `render` records one frame
-//! in one encoder with a timestamp pair around every pass and an occlusion query around every
-//! level's lighting draw.
+//! pixel's level where they need it → one pass that marks every level's stencil, side by side in
+//! one atlas (one draw a level; under the foveated policy one instanced draw for all), then lights
+//! every level behind stencil Equal (one draw a level, its viewport the level's rect) → composite.
+//! Targets and pipelines are made once per renderer; `render` records one frame in one encoder
+//! with a timestamp pair around every pass and an occlusion query around every level's lighting
+//! draw.
 
 use anyhow::{Context, Result};
 use glam::Vec3;
