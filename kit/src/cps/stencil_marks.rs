@@ -57,8 +57,7 @@ impl StencilMarks {
             .iter()
             .enumerate()
             .map(|(level, uniform)| {
-                let resources =
-                    [(0, wgpu::BindingResource::TextureView(&mask.all)), (1, uniform.as_entire_binding())];
+                let resources = [(0, wgpu::BindingResource::TextureView(&mask.all)), (1, uniform.as_entire_binding())];
                 bind_group_at(gpu, "stencil mark", &pipelines[level % 2], 0, &resources)
             })
             .collect();
