@@ -2,12 +2,12 @@
 // under the frame's policy, written to the LOD buffer (`R8Uint`) and as the bit 1 << level to mip
 // 0 of the mask pyramid. Foveated: level 0 within `inner_radius` pixels of the focus point, one
 // level coarser each time the distance doubles (level = floor(log2(1 + distance /
-// inner_radius)), common/foveation.wgsl). Content: the coarsest level l whose aligned 2^l block around the pixel holds
-// no edge, read from the OR-reduced edge pyramid (edge_pyramid mip l, texel pixel >> l). The
-// caller's own LOD, uploaded, is only read (fs_lod_present*). Levels are capped at the plan's top
-// level. Where the plan skips absent levels on the GPU (the *_counted entry points), each pixel
-// also sets its level's indirect instance count to 1, so a level no pixel uses is drawn with zero
-// instances, without a read-back.
+// inner_radius)), common/foveation.wgsl). Content: the coarsest level l whose aligned 2^l block
+// around the pixel holds no edge, read from the OR-reduced edge pyramid (edge_pyramid mip l,
+// texel pixel >> l). The caller's own LOD, uploaded, is only read (fs_lod_present*). Levels are
+// capped at the plan's top level. Where the plan skips absent levels on the GPU (the *_counted
+// entry points), each pixel also sets its level's indirect instance count to 1, so a level no
+// pixel uses is drawn with zero instances, without a read-back.
 
 struct LodParameters {
     // Foveated only.
