@@ -1,8 +1,8 @@
 // The stencil pyramid in its atlas: each level's marks (one draw a level, its viewport the
 // level's rect, or under the foveated policy one instance a level) mark (op Replace) the texels
 // some pixel of whose block uses that level, and discard the others; the draws open the lighting
-// pass (cps/lighting.wgsl), whose stencil-Equal draws follow them. This
-// stands in for stencil export, which wgpu (and NVIDIA's GL) lack.
+// pass (cps/lighting.wgsl), whose stencil-Equal draws follow them. This stands in for stencil
+// export, which wgpu (and NVIDIA's GL) lack.
 //
 // In general the levels a block uses come from the LOD-present mask pyramid, built before the
 // pass. It holds the even mips only: an even level reads its own mip, an odd one ORs its 2×2
