@@ -11,7 +11,7 @@
 struct Foveation {
     // The focus in pixels.
     focus: vec2f,
-    // R_k² for k = 1..8, in order.
+    // R_k² for k = 1..8 (MAX_LEVEL in cps/config.rs), in order.
     squared_boundaries: array<vec4f, 2>,
 }
 

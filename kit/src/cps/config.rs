@@ -41,8 +41,8 @@ impl LodPolicy {
     /// boundaries (inner_radius (2^k − 1))² for k = 1..=8, computed in f64 and rounded, the
     /// largest f32 past `top` (no pixel is coarser than the plan's top level); zeros for the
     /// other policies.
-    pub fn foveation_words(&self, screen: (u32, u32), top: u32) -> [u32; 12] {
-        let mut words = [0.0f32.to_bits(); 12];
+    pub fn foveation_words(&self, screen: (u32, u32), top: u32) -> [u32; 4 + MAX_LEVEL as usize] {
+        let mut words = [0.0f32.to_bits(); 4 + MAX_LEVEL as usize];
         if let Self::Foveated { focus, inner_radius } = self {
             words[0] = (focus.0 * screen.0 as f32).to_bits();
             words[1] = (focus.1 * screen.1 as f32).to_bits();
