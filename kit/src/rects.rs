@@ -96,6 +96,9 @@ pub enum RectFragment {
     AlphaRamp,
     /// `shaders/cbr/sample_id_record.wgsl` (per-sample pixel ids; uniform + storage at group 0).
     SamplePixelRecord,
+    /// `shaders/cps/stencil_mark.wgsl`'s foveated marks (the level in the instance colour's red;
+    /// uniform at group 0).
+    FoveatedStencilMark,
 }
 
 /// The fixed-function state of a rect pipeline.
@@ -103,6 +106,9 @@ pub enum RectFragment {
 pub struct RectPipeline {
     pub label: &'static str,
     pub colour_format: Option<wgpu::TextureFormat>,
+    /// The channels of the colour target written (none: a draw into a pass with a colour
+    /// attachment that only marks the stencil).
+    pub colour_writes: wgpu::ColorWrites,
     pub fragment: RectFragment,
     pub depth_stencil: Option<wgpu::DepthStencilState>,
     pub samples: u32,
@@ -115,6 +121,7 @@ impl RectPipeline {
         Self {
             label,
             colour_format: None,
+            colour_writes: wgpu::ColorWrites::ALL,
             fragment: RectFragment::None,
             depth_stencil: None,
             samples: 1,
@@ -125,8 +132,11 @@ impl RectPipeline {
 
     pub fn create(&self, gpu: &Gpu) -> wgpu::RenderPipeline {
         let rect = shaders::RECT.module(gpu);
-        let targets: Vec<Option<wgpu::ColorTargetState>> =
-            self.colour_format.map(|format| Some(format.into())).into_iter().collect();
+        let targets: Vec<Option<wgpu::ColorTargetState>> = self
+            .colour_format
+            .map(|format| Some(wgpu::ColorTargetState { format, blend: None, write_mask: self.colour_writes }))
+            .into_iter()
+            .collect();
         let fragment_file = match self.fragment {
             RectFragment::None => None,
             RectFragment::InstanceColour => Some((shaders::RECT, "fs_instance_colour")),
@@ -134,6 +144,7 @@ impl RectPipeline {
             RectFragment::SampleCoverageRecord => Some((shaders::SAMPLE_COVERAGE_RECORD, "fs_record_sample")),
             RectFragment::AlphaRamp => Some((shaders::ALPHA_RAMP, "fs_alpha_ramp")),
             RectFragment::SamplePixelRecord => Some((shaders::CBR_SAMPLE_ID_RECORD, "fs_record_sample_pixel")),
+            RectFragment::FoveatedStencilMark => Some((shaders::CPS_STENCIL_MARK, "fs_stencil_mark_foveated")),
         };
         let fragment = fragment_file.map(|(file, entry)| (file.module(gpu), entry));
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

@@ -9,8 +9,8 @@
 // children in the even mip below (its own entry point: a branch on the level would run both sides
 // on a CPU rasteriser). Under the foveated policy they follow from the block's geometry instead
 // (fs_stencil_mark_foveated), and no pyramid is built; one pipeline serves every level, so all
-// the levels' marks are one draw, an instance a level (vs_level_bounds): lavapipe pays about as
-// much for a draw as for a few hundred marked texels.
+// the levels' marks are one draw, a rect instance a level: lavapipe pays about as much for a draw
+// as for a few hundred marked texels.
 
 struct AtlasLevel {
     level: u32,
@@ -21,17 +21,12 @@ struct AtlasLevel {
 @group(0) @binding(0) var mask: texture_2d<u32>;
 @group(0) @binding(1) var<uniform> target_level: AtlasLevel;
 
-// The foveated policy, as the LOD pass has it, the screen, and per level the quad its marks
-// are drawn over.
+// The foveated policy, as the LOD pass has it, the screen, and where each level starts in the
+// atlas.
 struct FoveatedMarks {
     foveation: Foveation,
     screen: vec2u,
-    // The atlas's size in texels.
-    atlas: vec2u,
-    // Per level: the texels that can be needed (the plan's level_bounds) in the atlas, first and
-    // one past the last (x0, y0, x1, y1).
-    bounds: array<vec4u, 9>,
-    // Per level: where its rect starts in the atlas (xy).
+    // Per level (xy).
     origins: array<vec4u, 9>,
 }
 
@@ -75,30 +70,17 @@ fn fs_stencil_mark_odd(@builtin(position) position: vec4f) {
     mark_if(bits);
 }
 
-// One instance a level: two triangles over the level's bounds in the atlas (their edges on texel
-// edges, so exactly the bounds' texel centres are covered), carrying the level.
-struct LevelTexel {
-    @builtin(position) position: vec4f,
-    @location(0) @interpolate(flat) level: u32,
-}
-
-@vertex
-fn vs_level_bounds(@builtin(vertex_index) vertex: u32, @builtin(instance_index) level: u32) -> LevelTexel {
-    var corners = array<vec2u, 6>(vec2u(0u, 0u), vec2u(1u, 0u), vec2u(0u, 1u), vec2u(0u, 1u), vec2u(1u, 0u), vec2u(1u, 1u));
-    let bounds = marks.bounds[level];
-    let texel = select(bounds.xy, bounds.zw, corners[vertex] == vec2u(1u));
-    let clip = vec2f(texel) / vec2f(marks.atlas) * vec2f(2.0, -2.0) + vec2f(-1.0, 1.0);
-    return LevelTexel(vec4f(clip, 0.0, 1.0), level);
-}
-
 // A level's pixels lie in a ring around the focus, and a pixel's octaves grow with its distance:
 // the levels of a block's pixels run from its pixel nearest the focus to its farthest, and each
 // level in between is used too, as its ring is at least 2 inner radii wide (the plan takes this
 // path for inner radii of one pixel or more), wider than the √2 between a pixel and the next.
+//
+// Drawn as one rect a level (kit/src/rects.rs, shaders/kit/rect.wgsl) over the level's bounds in
+// the atlas, the level in the rect's colour (red; constant across the rect, rounded).
 @fragment
-fn fs_stencil_mark_foveated(texel: LevelTexel) {
-    let level = texel.level;
-    let first = (vec2u(texel.position.xy) - marks.origins[level].xy) << vec2u(level);
+fn fs_stencil_mark_foveated(@builtin(position) position: vec4f, @location(0) level_in_red: vec4f) {
+    let level = u32(round(level_in_red.r));
+    let first = (vec2u(position.xy) - marks.origins[level].xy) << vec2u(level);
     let last = min(first + vec2u((1u << level) - 1u), marks.screen - 1u);
     let foveation = marks.foveation;
     let focus = foveation.focus;

@@ -11,24 +11,16 @@ use super::targets::MipChain;
 use crate::deferred::lighting::HDR;
 use crate::fullscreen::{FullscreenPipeline, bind_group_at, uniform_buffer};
 use crate::gpu::Gpu;
-use crate::rects::stencil_state;
+use crate::rects::{Rect, RectBatch, RectFragment, RectPipeline, stencil_replace};
 use crate::shaders;
 
 /// The marks' draws: one a level from the pyramid, or one instanced draw from the foveation.
 pub(super) enum StencilMarks {
     /// The even and the odd levels' pipelines, and each level's bind group.
     Pyramid { pipelines: [wgpu::RenderPipeline; 2], level_groups: Vec<wgpu::BindGroup> },
-    /// One pipeline and bind group for every level: an instance a level, its quad the level's
-    /// bounds.
-    Foveated { pipeline: wgpu::RenderPipeline, group: wgpu::BindGroup, levels: u32 },
-}
-
-/// In the lighting pass: its colour target, left unwritten.
-const UNWRITTEN: [Option<wgpu::ColorTargetState>; 1] =
-    [Some(wgpu::ColorTargetState { format: HDR, blend: None, write_mask: wgpu::ColorWrites::empty() })];
-
-fn marking() -> wgpu::DepthStencilState {
-    stencil_state(STENCIL, wgpu::CompareFunction::Always, wgpu::StencilOperation::Replace)
+    /// One pipeline and bind group for every level, and a rect a level (`crate::rects`): the
+    /// level's bounds in the atlas, the level in its colour.
+    Foveated { pipeline: wgpu::RenderPipeline, group: wgpu::BindGroup, bounds: RectBatch },
 }
 
 impl StencilMarks {
@@ -42,13 +34,16 @@ impl StencilMarks {
         level_uniforms: &[wgpu::Buffer],
     ) -> Self {
         let Some(mask) = mask else { return Self::foveated(gpu, plan, policy) };
+        // In the lighting pass: its colour target, left unwritten.
+        let unwritten =
+            [Some(wgpu::ColorTargetState { format: HDR, blend: None, write_mask: wgpu::ColorWrites::empty() })];
         let pipelines = ["fs_stencil_mark_even", "fs_stencil_mark_odd"].map(|entry_point| {
             FullscreenPipeline {
                 label: "stencil mark",
                 fragment: shaders::CPS_STENCIL_MARK,
                 entry_point,
-                targets: &UNWRITTEN,
-                depth_stencil: Some(marking()),
+                targets: &unwritten,
+                depth_stencil: Some(stencil_replace(STENCIL)),
                 samples: 1,
             }
             .create(gpu)
@@ -66,44 +61,30 @@ impl StencilMarks {
 
     /// Every level's marks from the foveation, in one draw.
     fn foveated(gpu: &Gpu, plan: &Plan, policy: &LodPolicy) -> Self {
-        let module = shaders::CPS_STENCIL_MARK.module(gpu);
-        let pipeline = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("foveated stencil marks"),
-            layout: None,
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_level_bounds"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: Default::default(),
-            depth_stencil: Some(marking()),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_stencil_mark_foveated"),
-                compilation_options: Default::default(),
-                targets: &UNWRITTEN,
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = RectPipeline {
+            colour_format: Some(HDR),
+            colour_writes: wgpu::ColorWrites::empty(),
+            fragment: RectFragment::FoveatedStencilMark,
+            depth_stencil: Some(stencil_replace(STENCIL)),
+            ..RectPipeline::new("foveated stencil marks")
+        }
+        .create(gpu);
         let (w, h) = plan.screen;
         let mut words = policy.foveation_words(plan.screen, plan.top_level).to_vec();
-        words.extend([w, h, plan.atlas.size.0, plan.atlas.size.1]);
-        let levels = plan.levels() as usize;
-        let mut bounds = [[0u32; 4]; 9];
+        words.extend([w, h, 0, 0]);
         let mut origins = [[0u32; 4]; 9];
-        for level in 0..levels {
+        let mut bounds = Vec::new();
+        for (level, origin) in origins.iter_mut().enumerate().take(plan.levels() as usize) {
             let (x, y, _, _) = plan.atlas.rect(level);
             let (bx, by, bw, bh) = plan.level_bounds[level];
-            bounds[level] = [x + bx, y + by, x + bx + bw, y + by + bh];
-            origins[level] = [x, y, 0, 0];
+            *origin = [x, y, 0, 0];
+            let rect = Rect::new((x + bx) as f32, (y + by) as f32, (x + bx + bw) as f32, (y + by + bh) as f32);
+            bounds.push((rect, [level as f32, 0.0, 0.0, 0.0]));
         }
-        words.extend(bounds.iter().chain(&origins).flatten());
+        words.extend(origins.iter().flatten());
         let uniform = uniform_buffer(gpu, "foveated marks", bytemuck::cast_slice(&words));
         let group = bind_group_at(gpu, "foveated stencil marks", &pipeline, 0, &[(2, uniform.as_entire_binding())]);
-        Self::Foveated { pipeline, group, levels: levels as u32 }
+        Self::Foveated { pipeline, group, bounds: RectBatch::new(gpu, plan.atlas.size, &bounds) }
     }
 
     /// Every level's marks, into `pass` (stencil reference 1). From the pyramid, each level is
@@ -121,13 +102,13 @@ impl StencilMarks {
                     pass.draw_indirect(level_draws, level_draw_offset(level));
                 }
             }
-            Self::Foveated { pipeline, group, levels } => {
+            Self::Foveated { pipeline, group, bounds } => {
                 let (w, h) = plan.atlas.size;
                 pass.set_viewport(0.0, 0.0, w as f32, h as f32, 0.0, 1.0);
                 pass.set_scissor_rect(0, 0, w, h);
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, group, &[]);
-                pass.draw(0..6, 0..*levels);
+                bounds.draw(pass, ..);
             }
         }
     }
