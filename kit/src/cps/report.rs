@@ -289,9 +289,10 @@ fn composites_side_by_side(rows: &[CpsReportRow]) -> String {
          where it was lit: shading linear in screen position comes out exact whatever the levels \
          (`cps.composite.linear_precision`), so a level boundary adds no step the shading does not have. \
          It is meant to be at or below the original 4-neighbour interpolation in seam error and FLIP; \
-         here it is not in {losses} of {} rows.\n\n\
+         here it is at or below in {} of {} rows.\n\n\
          | policy | top level | lights | seam error (seam-free / 4-neighbour / nearest) | FLIP (same order) | composite ms (same order) | seam-free vs 4-neighbour |\n\
          |---|---:|---:|---:|---:|---:|---|\n{}\n",
+        lines.len() - losses,
         lines.len(),
         lines.join("\n")
     )
