@@ -63,6 +63,7 @@ shader_files! {
     CBR_UNPACK_SAMPLES => "cbr/unpack_samples.wgsl",
     CBR_RECONSTRUCT => "cbr/reconstruct.wgsl",
     CBR_UPSCALE => "cbr/upscale.wgsl",
+    CBR_TURN_BACK => "cbr/turn_back.wgsl",
     OIT_QUAD => "oit/quad.wgsl",
     OIT_NOISE_STEP => "oit/noise_step.wgsl",
     OIT_STOCHASTIC => "oit/stochastic.wgsl",

@@ -121,6 +121,21 @@ fn fs_reconstruct(@builtin(position) position: vec4f) -> Reconstructed {
     return Reconstructed(vec4f(pixel.colour, 1.0), pixel.source);
 }
 
+// A still scene's frame with history (the plan says nothing moves): every pixel frame N did not
+// sample, frame N−1 did at the same place — but column 0's odd rows, which neither phase samples
+// and fs_reconstruct fills (the renderer scissors this entry point to x ≥ 1). The same colours and
+// sources as fs_reconstruct there, without computing a fill no pixel uses.
+@fragment
+fn fs_reconstruct_still(@builtin(position) position: vec4f) -> Reconstructed {
+    let p = vec2i(position.xy);
+    let own = checkerboard_texel(p, rebuild.phase, rebuild.quarter);
+    if own.x >= 0 {
+        return Reconstructed(vec4f(current_sample(own), 1.0), FROM_CURRENT);
+    }
+    let history = checkerboard_texel(p, 1 - rebuild.phase, rebuild.quarter);
+    return Reconstructed(vec4f(frame_sample(previous_colour, previous_forward, history), 1.0), FROM_HISTORY);
+}
+
 struct ReconstructedWithMotion {
     @location(0) colour: vec4f,
     @location(1) source: u32,

@@ -1,5 +1,5 @@
 // Deferred checkerboard shading, 2x path: the resolve pass that shades each sample of the 2x
-// G-buffer into the shade resolve target (single-sampled, twice the width: the sample layout).
+// G-buffer into the shade resolve target (single-sampled, in the sample layout).
 
 @group(0) @binding(0) var<uniform> shading: SampleShading;
 @group(0) @binding(1) var gbuffer_normal: texture_multisampled_2d<f32>;

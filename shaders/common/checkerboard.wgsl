@@ -1,7 +1,9 @@
-// Checkerboard rendering's shared arithmetic. Sample layout: the two samples of quarter-resolution
-// pixel q sit side by side in a (2·Wq)×Hq texture, sample s at (q.x + s·Wq, q.y). Phase j (the
-// frame's jitter, 0 or 1) samples full-resolution pixel p when p.x + p.y + j is even: an even row
-// through sample 1 of q = ((x − j)/2, y/2), an odd row through sample 0 of q = ((x − 1 − j)/2, (y − 1)/2).
+// Checkerboard rendering's shared arithmetic. Sample layout: each of a frame's two samples per
+// quarter-resolution pixel in its half of a (2·Hq)×Wq texture, the Wq×Hq view turned a quarter
+// (kit/src/cbr/sampling.rs, QUARTER_TURN): sample s of quarter pixel q at (q.y + s·Hq, Wq − 1 − q.x).
+// Phase j (the frame's jitter, 0 or 1) samples full-resolution pixel p when p.x + p.y + j is even:
+// an even row through sample 1 of q = ((x − j)/2, y/2), an odd row through sample 0 of
+// q = ((x − 1 − j)/2, (y − 1)/2).
 
 // The layout texel holding pixel `p` in phase `phase`, or (-1, -1) where that phase has no sample
 // of it (the other phase's pixels, and the documented gap: odd rows of column 0 in phase 1).
@@ -14,13 +16,13 @@ fn checkerboard_texel(p: vec2i, phase: i32, quarter: vec2i) -> vec2i {
     if any(q < vec2i(0)) || any(q >= quarter) {
         return vec2i(-1);
     }
-    return vec2i(q.x + (1 - odd_row) * quarter.x, q.y);
+    return vec2i(q.y + (1 - odd_row) * quarter.y, quarter.x - 1 - q.x);
 }
 
 // The quarter pixel and sample index a layout texel holds.
 fn layout_sample(texel: vec2i, quarter: vec2i) -> vec3i {
-    let sample = select(0, 1, texel.x >= quarter.x);
-    return vec3i(texel.x - sample * quarter.x, texel.y, sample);
+    let sample = select(0, 1, texel.x >= quarter.y);
+    return vec3i(quarter.x - 1 - texel.y, texel.x - sample * quarter.y, sample);
 }
 
 // The full-resolution pixel centre the layout texel's sample sees in phase `phase` (standard 2x

@@ -3,7 +3,9 @@
 //! N−1) fills exactly the pixels frame 0 did not sample; motion larger than the screen sends
 //! every unsampled pixel to the off-screen fill; a camera panning over nothing but the far plane
 //! (depth 1) reprojects without NaN and reproduces the background bit for bit. No output pixel
-//! may be NaN or infinite.
+//! may be NaN or infinite. The first frame's fills are held to the fill's definition (a CPU
+//! model of `reconstruct` in shaders/cbr/reconstruct.wgsl: the mean of the sampled cardinal
+//! neighbours through the reversible tonemap).
 
 use anyhow::Result;
 use fragkit::cbr::measure::{ComparedFrame, measure_against, render_with_reference};
@@ -27,6 +29,59 @@ fn check_finite(key: &str, image: &[f32], problems: &mut Vec<String>) {
     if bad > 0 {
         problems.push(format!("{key}: {bad} pixels NaN or infinite"));
     }
+}
+
+/// The reversible tonemap the fill averages through (shaders/common/checkerboard.wgsl).
+fn compress(c: [f64; 3]) -> [f64; 3] {
+    let m = c[0].max(c[1]).max(c[2]);
+    c.map(|v| v / (1.0 + m))
+}
+
+fn expand(c: [f64; 3]) -> [f64; 3] {
+    let m = c[0].max(c[1]).max(c[2]);
+    c.map(|v| v / (1.0 - m).max(1e-4))
+}
+
+/// The f32 arithmetic of the fill (a division, a sum of four, a mean, a division, each rounding
+/// to half an ulp, 2^-24 relative; expansion by 1/(1 − max) at most doubles it for colours below
+/// 1), rounded up.
+const F32_ARITHMETIC: f64 = 1.0 / (1u64 << 20) as f64;
+
+/// How many first-frame fills differ from the fill's definition — the mean of the pixel's
+/// cardinal neighbours frame 0 sampled, through the reversible tonemap — computed in f64 from
+/// those neighbours as the reconstruction wrote them (exact copies of the f16 samples), beyond
+/// one f16 ulp of the result (the target's conversion: round to nearest loses half of one, a
+/// truncating one, as llvmpipe's, all of it) plus the f32 arithmetic's error.
+fn fills_off_definition(screen: (u32, u32), result: &[f32], sources: &[PixelSource]) -> usize {
+    let (w, h) = (screen.0 as i64, screen.1 as i64);
+    let colour = |x: i64, y: i64| {
+        let i = (y * w + x) as usize * 4;
+        [0, 1, 2].map(|c| f64::from(result[i + c]))
+    };
+    let mut wrong = 0;
+    for (i, source) in sources.iter().enumerate() {
+        if *source != PixelSource::FirstFrame {
+            continue;
+        }
+        let (x, y) = (i as i64 % w, i as i64 / w);
+        let neighbours: Vec<[f64; 3]> = [(-1, 0), (1, 0), (0, -1), (0, 1)]
+            .iter()
+            .map(|(dx, dy)| (x + dx, y + dy))
+            .filter(|&(nx, ny)| (0..w).contains(&nx) && (0..h).contains(&ny))
+            .filter(|&(nx, ny)| sources[(ny * w + nx) as usize] == PixelSource::Current)
+            .map(|(nx, ny)| compress(colour(nx, ny)))
+            .collect();
+        let count = neighbours.len() as f64;
+        let mean = [0, 1, 2].map(|c| neighbours.iter().map(|n| n[c]).sum::<f64>() / count);
+        let expected = expand(mean);
+        let got = colour(x, y);
+        let off = (0..3).any(|c| {
+            let ulp = (expected[c].abs().max(f64::from(half::f16::MIN_POSITIVE))).log2().floor().exp2() / 1024.0;
+            (got[c] - expected[c]).abs() > ulp + expected[c].abs() * F32_ARITHMETIC || !got[c].is_finite()
+        });
+        wrong += usize::from(off || neighbours.is_empty());
+    }
+    wrong
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
@@ -63,10 +118,16 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             .filter(|(source, sampled)| **sampled != (**source == PixelSource::Current))
             .count();
         let first = sources.iter().filter(|s| **s == PixelSource::FirstFrame).count();
-        ctx.metric(&key, serde_json::json!({"first_frame_fills": first, "misclassified": wrong}));
+        let wrong_fills = fills_off_definition(screen, &result, &sources);
+        ctx.metric(
+            &key,
+            serde_json::json!({"first_frame_fills": first, "misclassified": wrong, "fills_off_definition": wrong_fills}),
+        );
         check_finite(&key, &result, &mut problems);
-        if wrong > 0 || first != sampled.iter().filter(|s| !**s).count() {
-            problems.push(format!("{key}: {wrong} pixels misclassified, {first} first-frame fills"));
+        if wrong > 0 || first != sampled.iter().filter(|s| !**s).count() || wrong_fills > 0 {
+            problems.push(format!(
+                "{key}: {wrong} pixels misclassified, {first} first-frame fills, {wrong_fills} fills off their definition"
+            ));
         }
 
         // Motion larger than the screen: no history anywhere.

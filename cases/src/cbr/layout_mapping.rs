@@ -1,9 +1,9 @@
 //! `cbr.layout.mapping`: the sample layout's WGSL functions, which the reconstruction and the
 //! deferred shade passes call, agree with the definition of where checkerboard samples land
 //! (kit/src/cbr/sampling.rs: sample s of quarter pixel q sees pixel ⌊2(q + p_s) + (phase, 0)⌋ for
-//! the standard 2x positions p_s, and sits at layout texel (q.x + s·Wq, q.y)): every pixel maps to
-//! the texel holding its sample (or none), and every texel's pixel centre is that pixel's centre,
-//! exactly, both phases, odd sizes included.
+//! the standard 2x positions p_s, and sits at layout texel (q.y + s·Hq, Wq − 1 − q.x), its view
+//! turned a quarter): every pixel maps to the texel holding its sample (or none), and every
+//! texel's pixel centre is that pixel's centre, exactly, both phases, odd sizes included.
 
 use anyhow::Result;
 use fragkit::cbr::frame::layout_size;
@@ -49,7 +49,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 (0..quarter.1).flat_map(|y| (0..quarter.0).flat_map(move |x| [(y, x, 0), (y, x, 1)]))
             {
                 let (x, y) = sample_pixel((qx, qy), sample, phase, &positions);
-                let texel = (qx + sample as u32 * quarter.0, qy);
+                let texel = (qy + sample as u32 * quarter.1, quarter.0 - 1 - qx);
                 centre_of_texel[(texel.1 * layout.0 + texel.0) as usize] = [x as f32 + 0.5, y as f32 + 0.5];
                 if (0..i64::from(screen.0)).contains(&x) && (0..i64::from(screen.1)).contains(&y) {
                     texel_of_pixel[(y as u32 * screen.0 + x as u32) as usize] = Some(texel);

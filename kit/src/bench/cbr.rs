@@ -3,26 +3,37 @@
 //! offset-pass path and, where the kit measured a real one, the 2x MSAA path. Each is timed
 //! against full resolution shaded the same way — forward against forward, deferred against
 //! deferred — so that the speed-up is what checkerboarding saves, not what deferred shading saves
-//! (overdraw); both baselines' times are printed beside them. GPU time of a whole frame from
-//! timestamp queries around every pass.
+//! (overdraw) — and rasterised as the checkerboard's views are: turned a quarter for the offset
+//! passes (then turned back upright by one more pass), upright for the 2x path. Every baseline's
+//! time is printed. GPU time of a whole frame from timestamp queries around every pass.
 
 use anyhow::Result;
 
 use super::{Bench, Sample, require_timestamps};
 use crate::cbr::sampling::CheckerboardPath;
 use crate::cbr::scene::{Motion, textured_corridor};
-use crate::cbr::{Checkerboard, CheckerboardConfig, FullResolutionScene, Shading};
+use crate::cbr::{Checkerboard, CheckerboardConfig, FullResolutionScene, Orientation, Shading};
 use crate::gpu::Gpu;
 
 pub const SIZE: (u32, u32) = (320, 180);
 pub const LIGHTS: u32 = 200;
 
 pub struct CbrBench {
-    /// Forward, then deferred (`Shading::ALL`'s order).
+    /// Full resolution in each of `BASELINES`.
     full_resolution: Vec<FullResolutionScene>,
-    renderers: Vec<(String, Shading, Checkerboard)>,
-    frame: u32,
+    renderers: Vec<(String, CheckerboardPath, Shading, Checkerboard)>,
+    /// Each renderer's last frame index: its own sequence, so that every frame has the one
+    /// before it as history and the phases alternate.
+    frames: Vec<u32>,
 }
+
+/// The full-resolution baselines, in variant order.
+const BASELINES: [(Shading, Orientation); 4] = [
+    (Shading::Forward, Orientation::Upright),
+    (Shading::Deferred, Orientation::Upright),
+    (Shading::Forward, Orientation::Turned),
+    (Shading::Deferred, Orientation::Turned),
+];
 
 impl CbrBench {
     pub fn new(gpu: &Gpu) -> Result<Self> {
@@ -32,24 +43,21 @@ impl CbrBench {
         if CheckerboardPath::for_adapter(gpu) == CheckerboardPath::Msaa2x {
             paths.push(CheckerboardPath::Msaa2x);
         }
-        let full_resolution = Shading::ALL
+        let full_resolution = BASELINES
             .iter()
-            .map(|&shading| FullResolutionScene::shaded(gpu, &scene, SIZE, shading))
+            .map(|&(shading, orientation)| FullResolutionScene::shaded(gpu, &scene, SIZE, shading, orientation))
             .collect::<Result<_>>()?;
-        let renderers = paths
+        let renderers: Vec<(String, CheckerboardPath, Shading, Checkerboard)> = paths
             .iter()
             .flat_map(|&path| Shading::ALL.map(|shading| (path, shading)))
             .map(|(path, shading)| {
                 let renderer = Checkerboard::new(gpu, &scene, CheckerboardConfig::new(SIZE, path, shading))?;
-                Ok((format!("{}_{}", path.name(), shading.name()), shading, renderer))
+                Ok((format!("{}_{}", path.name(), shading.name()), path, shading, renderer))
             })
             .collect::<Result<_>>()?;
-        Ok(Self { full_resolution, renderers, frame: 0 })
+        let frames = vec![0; renderers.len()];
+        Ok(Self { full_resolution, renderers, frames })
     }
-}
-
-fn shading_index(shading: Shading) -> usize {
-    Shading::ALL.iter().position(|&s| s == shading).expect("in ALL")
 }
 
 impl Bench for CbrBench {
@@ -58,26 +66,35 @@ impl Bench for CbrBench {
     }
 
     fn variants(&self) -> Vec<String> {
-        Shading::ALL
-            .iter()
-            .map(|s| format!("full_resolution_{}", s.name()))
-            .chain(self.renderers.iter().map(|(n, ..)| n.clone()))
-            .collect()
+        // Upright baselines keep the names they had before the offset passes turned.
+        let baseline_name = |(shading, orientation): &(Shading, Orientation)| match orientation {
+            Orientation::Upright => format!("full_resolution_{}", shading.name()),
+            Orientation::Turned => format!("full_resolution_{}_turned", shading.name()),
+        };
+        BASELINES.iter().map(baseline_name).chain(self.renderers.iter().map(|(n, ..)| n.clone())).collect()
     }
 
     fn baseline(&self, variant: usize) -> usize {
-        let baselines = Shading::ALL.len();
-        if variant < baselines { variant } else { shading_index(self.renderers[variant - baselines].1) }
+        let Some((_, path, shading, _)) = variant.checked_sub(BASELINES.len()).map(|r| &self.renderers[r]) else {
+            return variant;
+        };
+        let orientation = match path {
+            CheckerboardPath::OffsetPasses => Orientation::Turned,
+            CheckerboardPath::Msaa2x => Orientation::Upright,
+        };
+        BASELINES.iter().position(|&b| b == (*shading, orientation)).expect("every baseline is listed")
     }
 
     fn run(&mut self, gpu: &Gpu, variant: usize) -> Result<Sample> {
-        let baselines = Shading::ALL.len();
+        let baselines = BASELINES.len();
         if variant < baselines {
             return Ok(Sample::gpu_ms(self.full_resolution[variant].render(gpu, 0)?));
         }
-        // Successive frames alternate the checkerboard's phase, as in a real sequence.
-        self.frame += 1;
-        let frame = self.renderers[variant - baselines].2.render(gpu, self.frame)?;
+        // Successive frames of a renderer alternate the checkerboard's phase and reconstruct
+        // from the one before, as in a real sequence.
+        let index = variant - baselines;
+        self.frames[index] += 1;
+        let frame = self.renderers[index].3.render(gpu, self.frames[index])?;
         // Where the time goes: scene passes (shading) and the reconstruction.
         let reconstruct: f64 = frame
             .passes

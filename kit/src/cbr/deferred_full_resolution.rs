@@ -2,11 +2,13 @@
 //! checkerboard's own lighting, transparents forward on top. The baseline deferred
 //! checkerboarding is timed against — the same work but for the pixels checkerboarding leaves
 //! out (forward full resolution also shades overdraw, which deferred shading removes, so it would
-//! credit checkerboarding with a saving that is not its own).
+//! credit checkerboarding with a saving that is not its own). Rasterised upright, or turned a
+//! quarter (`QUARTER_TURN`, every target H wide and W tall) as the offset passes draw their views.
 
 use anyhow::Result;
 
 use super::frame::{BACKGROUND, TARGET_USAGE, shading_uniform};
+use super::sampling::QUARTER_TURN;
 use super::scene::CheckerboardScene;
 use super::scene_pass::{
     ALBEDO, DEPTH, DrawSet, HDR, NORMAL, ScenePassKind, ScenePipelines, SceneResources, TextureLod,
@@ -22,6 +24,7 @@ pub struct DeferredFullResolution {
     resources: SceneResources,
     scene: CheckerboardScene,
     screen: (u32, u32),
+    turned: bool,
     /// Normal + shininess, albedo + specular weight (read by `cbr.deferred_full_resolution`).
     pub gbuffer: [wgpu::Texture; 2],
     pub depth: wgpu::Texture,
@@ -35,38 +38,42 @@ fn view(texture: &wgpu::Texture) -> wgpu::TextureView {
 }
 
 impl DeferredFullResolution {
-    pub fn new(gpu: &Gpu, scene: &CheckerboardScene, screen: (u32, u32)) -> Result<Self> {
+    pub fn new(gpu: &Gpu, scene: &CheckerboardScene, screen: (u32, u32), turned: bool) -> Result<Self> {
         let pipelines = ScenePipelines::new(gpu, 1);
         let resources = SceneResources::new(gpu, &pipelines, scene, 1)?;
         let shade = FullscreenPipeline {
             label: "shade full resolution",
             fragment: shaders::CBR_SHADE_SAMPLES,
-            entry_point: "fs_shade_full_resolution",
+            entry_point: if turned { "fs_shade_full_resolution_turned" } else { "fs_shade_full_resolution" },
             targets: &[Some(HDR.into())],
             depth_stencil: None,
             samples: 1,
         }
         .create(gpu);
+        let target = if turned { (screen.1, screen.0) } else { screen };
         Ok(Self {
             gbuffer: [
-                gpu.texture("full-resolution gbuffer normal", screen, NORMAL, 1, TARGET_USAGE),
-                gpu.texture("full-resolution gbuffer albedo", screen, ALBEDO, 1, TARGET_USAGE),
+                gpu.texture("full-resolution gbuffer normal", target, NORMAL, 1, TARGET_USAGE),
+                gpu.texture("full-resolution gbuffer albedo", target, ALBEDO, 1, TARGET_USAGE),
             ],
-            depth: gpu.texture("full-resolution depth", screen, DEPTH, 1, TARGET_USAGE),
-            colour: gpu.texture("deferred full resolution", screen, HDR, 1, TARGET_USAGE),
+            depth: gpu.texture("full-resolution depth", target, DEPTH, 1, TARGET_USAGE),
+            colour: gpu.texture("deferred full resolution", target, HDR, 1, TARGET_USAGE),
             pipelines,
             resources,
             scene: scene.clone(),
             screen,
+            turned,
             shade,
-            timer: GpuTimer::new(gpu, 3),
+            timer: GpuTimer::new(gpu, 4),
         })
     }
 
     /// Records frame `index`: G-buffer, shading, transparents.
     pub fn record(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, index: u32) {
         let frame = self.scene.frame_view(index, self.screen);
-        self.resources.write_view(gpu, 0, frame.full_from_world, &frame, self.screen, TextureLod::Bias(0.0));
+        let to_target = if self.turned { QUARTER_TURN } else { glam::Mat4::IDENTITY };
+        let clip = to_target * frame.full_from_world;
+        self.resources.write_view(gpu, 0, clip, &frame, self.screen, TextureLod::Bias(0.0));
         self.resources.write_objects(gpu, &frame);
         let (gbuffer, depth) = (self.gbuffer.each_ref().map(view), view(&self.depth));
         let clear = wgpu::Color::TRANSPARENT;

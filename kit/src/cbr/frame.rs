@@ -1,12 +1,14 @@
-//! One checkerboard frame: its targets in the sample layout (the two samples of quarter pixel q
-//! side by side, sample s at (q.x + s·Wq, q.y); see `shaders/common/checkerboard.wgsl`) and the
-//! passes that fill them, on either path (offset passes or a real 2x target) with forward or
-//! deferred shading, as the plan says.
+//! One checkerboard frame: its targets in the sample layout (each sample's turned view in its
+//! half, sample s of quarter pixel q at (q.y + s·Hq, Wq − 1 − q.x); see
+//! `shaders/common/checkerboard.wgsl`) and the passes that fill them, on either path (offset
+//! passes or a real 2x target) with forward or deferred shading, as the plan says.
 
 use anyhow::Result;
 
 use super::plan::{CheckerboardPlan, Shading};
-use super::sampling::{CheckerboardPath, offset_for_sample, quarter_projection, quarter_size, sample_positions};
+use super::sampling::{
+    CheckerboardPath, QUARTER_TURN, offset_for_sample, quarter_projection, quarter_size, sample_positions,
+};
 use super::scene::FrameView;
 use super::scene_pass::{
     ALBEDO, DEPTH, DrawSet, HDR, MOTION, NORMAL, ScenePassKind, ScenePipelines, SceneResources, TextureLod,
@@ -37,10 +39,11 @@ pub(crate) const TARGET_USAGE: wgpu::TextureUsages = wgpu::TextureUsages::RENDER
     .union(wgpu::TextureUsages::TEXTURE_BINDING)
     .union(wgpu::TextureUsages::COPY_SRC);
 
-/// Size of the sample layout for a full-resolution screen.
+/// Size of the sample layout for a full-resolution screen: two turned quarter-resolution views
+/// side by side.
 pub fn layout_size(screen: (u32, u32)) -> (u32, u32) {
     let (qw, qh) = quarter_size(screen);
-    (2 * qw, qh)
+    (2 * qh, qw)
 }
 
 impl CheckerboardFrame {
@@ -180,7 +183,11 @@ impl FramePasses {
         frame: &CheckerboardFrame,
     ) {
         for (slot, offset) in self.view_offsets().into_iter().enumerate() {
-            let clip = quarter_projection(self.screen, phase, offset) * view.full_from_world;
+            let quarter = quarter_projection(self.screen, phase, offset);
+            let clip = match self.plan.path {
+                CheckerboardPath::Msaa2x => quarter,
+                CheckerboardPath::OffsetPasses => QUARTER_TURN * quarter,
+            } * view.full_from_world;
             self.resources.write_view(gpu, slot, clip, view, self.screen, self.lod);
         }
         self.resources.write_objects(gpu, view);
@@ -288,7 +295,7 @@ impl FramePasses {
     }
 
     /// One pass of the scene through every view of the frame, drawing `sets` in order: the 2x
-    /// target's one view, or each offset pass into its half of the sample layout. `depth` is
+    /// target's one view, or each offset pass turned into its half of the sample layout. `depth` is
     /// cleared and written, or (`false`) only tested.
     #[allow(clippy::too_many_arguments)]
     fn scene_pass(
@@ -312,9 +319,9 @@ impl FramePasses {
         let (qw, qh) = quarter_size(self.screen);
         for view in 0..views {
             if views > 1 {
-                let x = view as u32 * qw;
-                pass.set_viewport(x as f32, 0.0, qw as f32, qh as f32, 0.0, 1.0);
-                pass.set_scissor_rect(x, 0, qw, qh);
+                let x = view as u32 * qh;
+                pass.set_viewport(x as f32, 0.0, qh as f32, qw as f32, 0.0, 1.0);
+                pass.set_scissor_rect(x, 0, qh, qw);
             }
             for set in sets {
                 self.resources.draw(&mut pass, &self.pipelines, kind, *set, view);

@@ -19,4 +19,4 @@ pub mod scene_pass;
 
 pub use plan::{CheckerboardPlan, Shading};
 pub use reconstruct::{Detection, PixelSource};
-pub use renderer::{Checkerboard, CheckerboardConfig, FullResolutionScene, HalfResolutionUpscale};
+pub use renderer::{Checkerboard, CheckerboardConfig, FullResolutionScene, HalfResolutionUpscale, Orientation};

@@ -11,7 +11,7 @@ use super::scene_pass::{DEPTH, HDR};
 use crate::attachments;
 use wgpu::util::DeviceExt;
 
-use crate::fullscreen::{FullscreenPipeline, bind_group};
+use crate::fullscreen::{FullscreenPipeline, bind_group, bind_group_at};
 use crate::gpu::Gpu;
 use crate::query::GpuTimer;
 use crate::shaders;
@@ -106,11 +106,13 @@ impl Detection {
 
 pub const SOURCE: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
 
-/// The reconstruction's pipeline, specialised on the renderer's plan and detection, its outputs,
+/// The reconstruction's pipelines, specialised on the renderer's plan and detection, its outputs,
 /// and the 1×1 placeholders bound where a frame has no motion or forward buffer (WGSL bindings are
 /// static; the specialisation keeps them unread).
 pub struct Reconstruction {
     pipeline: wgpu::RenderPipeline,
+    /// Where nothing moves: `fs_reconstruct_still`, for frames with history (all but column 0).
+    still: Option<wgpu::RenderPipeline>,
     detection: Detection,
     pub colour: wgpu::Texture,
     pub source: wgpu::Texture,
@@ -164,8 +166,21 @@ impl Reconstruction {
             samples: 1,
         }
         .create_specialised(gpu, &specialisation(plan, detection));
+        let nothing_moves = !plan.camera_reprojection && !plan.object_motion;
+        let still = (nothing_moves && !with_motion).then(|| {
+            FullscreenPipeline {
+                label: "reconstruction of a still frame",
+                fragment: shaders::CBR_RECONSTRUCT,
+                entry_point: "fs_reconstruct_still",
+                targets: &targets,
+                depth_stencil: None,
+                samples: 1,
+            }
+            .create_specialised(gpu, &specialisation(plan, detection))
+        });
         Self {
             pipeline,
+            still,
             detection,
             colour: gpu.texture("reconstruction", screen, HDR, 1, TARGET_USAGE),
             source: gpu.texture("pixel sources", screen, SOURCE, 1, TARGET_USAGE),
@@ -239,8 +254,38 @@ impl Reconstruction {
             timestamp_writes: timer.pass("reconstruction"),
             ..Default::default()
         });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.draw(0..3, 0..1);
+        match (&self.still, inputs.previous) {
+            // Column 0's odd rows need the fill: the full pipeline draws that column.
+            (Some(still), Some(_)) if screen.0 > 1 => {
+                let [current_colour, _, _, current_forward] = &current;
+                let [previous_colour, _, _, previous_forward] = &previous;
+                let still_group = bind_group_at(
+                    gpu,
+                    "reconstruction of a still frame",
+                    still,
+                    0,
+                    &[
+                        (0, uniform.as_entire_binding()),
+                        (1, wgpu::BindingResource::TextureView(current_colour)),
+                        (4, wgpu::BindingResource::TextureView(current_forward)),
+                        (5, wgpu::BindingResource::TextureView(previous_colour)),
+                        (8, wgpu::BindingResource::TextureView(previous_forward)),
+                    ],
+                );
+                pass.set_scissor_rect(1, 0, screen.0 - 1, screen.1);
+                pass.set_pipeline(still);
+                pass.set_bind_group(0, &still_group, &[]);
+                pass.draw(0..3, 0..1);
+                pass.set_scissor_rect(0, 0, 1, screen.1);
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &group, &[]);
+                pass.draw(0..3, 0..1);
+            }
+            _ => {
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &group, &[]);
+                pass.draw(0..3, 0..1);
+            }
+        }
     }
 }

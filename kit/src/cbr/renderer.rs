@@ -8,7 +8,7 @@ use super::deferred_full_resolution::DeferredFullResolution;
 use super::frame::{BACKGROUND, CheckerboardFrame, FramePasses, TARGET_USAGE, layout_size};
 use super::plan::{CheckerboardPlan, Shading};
 use super::reconstruct::{Detection, Reconstruction, ReconstructionInputs};
-use super::sampling::{CheckerboardPath, check_screen, quarter_projection, quarter_size};
+use super::sampling::{CheckerboardPath, QUARTER_TURN, check_screen, quarter_projection, quarter_size};
 use super::scene::CheckerboardScene;
 use super::scene_pass::{DEPTH, DrawSet, HDR, ScenePassKind, ScenePipelines, SceneResources, TextureLod};
 use crate::attachments;
@@ -36,13 +36,13 @@ impl CheckerboardConfig {
 }
 
 /// Checks a screen for checkerboarding on this adapter: at least 2×2, and its sample layout
-/// (twice the quarter width) within the texture limit.
+/// (twice the quarter height by the quarter width) within the texture limit.
 pub fn check_checkerboard_screen(gpu: &Gpu, screen: (u32, u32)) -> Result<()> {
     check_screen(screen)?;
     let max = gpu.device.limits().max_texture_dimension_2d;
     let layout = layout_size(screen);
     ensure!(
-        screen.0 <= max && screen.1 <= max && layout.0 <= max,
+        screen.0 <= max && screen.1 <= max && layout.0 <= max && layout.1 <= max,
         "checkerboard screen {}x{} needs {}x{} full-resolution and {}x{} sample-layout targets; this adapter allows {max}x{max}",
         screen.0,
         screen.1,
@@ -154,6 +154,7 @@ struct ForwardImage {
 }
 
 impl ForwardImage {
+    /// Targets of `size` (width, height as the target holds them).
     fn new(gpu: &Gpu, scene: &CheckerboardScene, size: (u32, u32)) -> Result<Self> {
         let pipelines = ScenePipelines::new(gpu, 1);
         let resources = SceneResources::new(gpu, &pipelines, scene, 1)?;
@@ -201,11 +202,67 @@ impl ForwardImage {
     }
 }
 
+/// How a full-resolution frame is rasterised: upright, or turned a quarter as the offset passes
+/// draw their views (`QUARTER_TURN`; CPU rasterisers shade a turned corridor faster) and turned
+/// back upright by one more pass — the timing baseline of checkerboarding on the offset passes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Orientation {
+    Upright,
+    Turned,
+}
+
+impl Orientation {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Upright => "upright",
+            Self::Turned => "turned",
+        }
+    }
+}
+
+/// The pass that turns a turned frame upright.
+struct TurnBack {
+    pipeline: wgpu::RenderPipeline,
+    upright: wgpu::Texture,
+}
+
+impl TurnBack {
+    fn new(gpu: &Gpu, screen: (u32, u32)) -> Self {
+        let pipeline = FullscreenPipeline {
+            label: "turn back",
+            fragment: shaders::CBR_TURN_BACK,
+            entry_point: "fs_turn_back",
+            targets: &[Some(HDR.into())],
+            depth_stencil: None,
+            samples: 1,
+        }
+        .create(gpu);
+        Self { pipeline, upright: gpu.texture("full resolution turned back", screen, HDR, 1, TARGET_USAGE) }
+    }
+
+    fn record(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer, turned: &wgpu::Texture) {
+        let source = turned.create_view(&Default::default());
+        let group = bind_group(gpu, "turn back", &self.pipeline, 0, &[wgpu::BindingResource::TextureView(&source)]);
+        let target = self.upright.create_view(&Default::default());
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("turn back"),
+            color_attachments: &[attachments::colour(&target, None, wgpu::Color::TRANSPARENT)],
+            timestamp_writes: timer.pass("turn back"),
+            ..Default::default()
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
+
 /// The reference: every pixel of the frame shaded at full resolution — forward (the image the
 /// cases measure against), or deferred (the timing baseline of deferred checkerboarding).
 pub struct FullResolutionScene {
     image: FullResolutionImage,
     screen: (u32, u32),
+    /// Where the frame is rasterised turned.
+    turn_back: Option<TurnBack>,
 }
 
 enum FullResolutionImage {
@@ -214,45 +271,68 @@ enum FullResolutionImage {
 }
 
 impl FullResolutionScene {
-    /// Forward full resolution.
+    /// Forward full resolution, upright.
     pub fn new(gpu: &Gpu, scene: &CheckerboardScene, screen: (u32, u32)) -> Result<Self> {
-        Self::shaded(gpu, scene, screen, Shading::Forward)
+        Self::shaded(gpu, scene, screen, Shading::Forward, Orientation::Upright)
     }
 
-    /// Full resolution shaded the way `shading` says.
-    pub fn shaded(gpu: &Gpu, scene: &CheckerboardScene, screen: (u32, u32), shading: Shading) -> Result<Self> {
+    /// Full resolution shaded the way `shading` says, rasterised in `orientation`.
+    pub fn shaded(
+        gpu: &Gpu,
+        scene: &CheckerboardScene,
+        screen: (u32, u32),
+        shading: Shading,
+        orientation: Orientation,
+    ) -> Result<Self> {
         crate::deferred::gbuffer::check_size(gpu, screen)?;
+        let turned = orientation == Orientation::Turned;
+        let target = if turned { (screen.1, screen.0) } else { screen };
         let image = match shading {
-            Shading::Forward => FullResolutionImage::Forward(Box::new(ForwardImage::new(gpu, scene, screen)?)),
+            Shading::Forward => FullResolutionImage::Forward(Box::new(ForwardImage::new(gpu, scene, target)?)),
             Shading::Deferred => {
-                FullResolutionImage::Deferred(Box::new(DeferredFullResolution::new(gpu, scene, screen)?))
+                FullResolutionImage::Deferred(Box::new(DeferredFullResolution::new(gpu, scene, screen, turned)?))
             }
         };
-        Ok(Self { image, screen })
+        Ok(Self { image, screen, turn_back: turned.then(|| TurnBack::new(gpu, screen)) })
     }
 
-    pub fn output(&self) -> &wgpu::Texture {
+    /// The deferred image's targets as rasterised (turned where the frame is).
+    pub fn deferred(&self) -> Option<&DeferredFullResolution> {
         match &self.image {
-            FullResolutionImage::Forward(image) => &image.colour,
-            FullResolutionImage::Deferred(image) => &image.colour,
+            FullResolutionImage::Deferred(image) => Some(image),
+            FullResolutionImage::Forward(_) => None,
+        }
+    }
+
+    /// The upright frame.
+    pub fn output(&self) -> &wgpu::Texture {
+        match (&self.turn_back, &self.image) {
+            (Some(turn_back), _) => &turn_back.upright,
+            (None, FullResolutionImage::Forward(image)) => &image.colour,
+            (None, FullResolutionImage::Deferred(image)) => &image.colour,
         }
     }
 
     /// Renders frame `index`; its GPU time.
     pub fn render(&mut self, gpu: &Gpu, index: u32) -> Result<f64> {
         let screen = self.screen;
+        let to_target = if self.turn_back.is_some() { QUARTER_TURN } else { glam::Mat4::IDENTITY };
+        let turn_back = &self.turn_back;
         let timer = gpu.scoped("full-resolution frame", || {
             let mut encoder = gpu.encoder("full-resolution frame");
-            let timer = match &mut self.image {
+            let (timer, rasterised) = match &mut self.image {
                 FullResolutionImage::Forward(image) => {
-                    image.record(gpu, &mut encoder, index, screen, glam::Mat4::IDENTITY, TextureLod::Bias(0.0));
-                    &mut image.timer
+                    image.record(gpu, &mut encoder, index, screen, to_target, TextureLod::Bias(0.0));
+                    (&mut image.timer, &image.colour)
                 }
                 FullResolutionImage::Deferred(image) => {
                     image.record(gpu, &mut encoder, index);
-                    &mut image.timer
+                    (&mut image.timer, &image.colour)
                 }
             };
+            if let Some(turn_back) = turn_back {
+                turn_back.record(gpu, &mut encoder, timer, rasterised);
+            }
             timer.resolve(&mut encoder);
             gpu.submit(encoder);
             Ok(timer)

@@ -11,7 +11,7 @@ use serde::Serialize;
 use super::measure::{measure_against, read_hdr};
 use super::plan::Shading;
 use super::reconstruct::Detection;
-use super::renderer::{Checkerboard, CheckerboardConfig, FullResolutionScene, HalfResolutionUpscale};
+use super::renderer::{Checkerboard, CheckerboardConfig, FullResolutionScene, HalfResolutionUpscale, Orientation};
 use super::sampling::CheckerboardPath;
 use super::scene::{CheckerboardScene, Motion, textured_corridor};
 use crate::gpu::{AdapterDescription, Gpu};
@@ -101,17 +101,27 @@ fn sequence_rows(gpu: &Gpu, sweep: &CbrSweep, scene: &CheckerboardScene, sequenc
         Ok((error.psnr_db, error.flip))
     };
     let mut rows = vec![CbrReportRow {
+        path: Orientation::Upright.name().into(),
         shading: Shading::Forward.name().into(),
         ..row(sequence, "fullres", fullres_ms, (f64::INFINITY, 0.0))
     }];
-    // Deferred checkerboarding's own baseline: full resolution deferred (the same G-buffer and
-    // lighting at every pixel), so that its speed-up is not credited with deferred shading's.
-    let mut deferred = FullResolutionScene::shaded(gpu, scene, screen, Shading::Deferred)?;
-    let deferred_ms = timed_frames(frames, |f| deferred.render(gpu, f))?;
-    rows.push(CbrReportRow {
-        shading: Shading::Deferred.name().into(),
-        ..row(sequence, "fullres", deferred_ms, error_of(&read_hdr(gpu, deferred.output())?)?)
-    });
+    // Each checkerboarding's baseline is full resolution shaded the same way (deferred: the same
+    // G-buffer and lighting at every pixel, so that its speed-up is not credited with deferred
+    // shading's) and rasterised as its views are (turned for the offset passes).
+    let others = [
+        (Shading::Forward, Orientation::Turned),
+        (Shading::Deferred, Orientation::Upright),
+        (Shading::Deferred, Orientation::Turned),
+    ];
+    for (shading, orientation) in others {
+        let mut frame = FullResolutionScene::shaded(gpu, scene, screen, shading, orientation)?;
+        let ms = timed_frames(frames, |f| frame.render(gpu, f))?;
+        rows.push(CbrReportRow {
+            path: orientation.name().into(),
+            shading: shading.name().into(),
+            ..row(sequence, "fullres", ms, error_of(&read_hdr(gpu, frame.output())?)?)
+        });
+    }
 
     let mut upscale = HalfResolutionUpscale::new(gpu, scene, screen)?;
     let upscale_ms = timed_frames(frames, |f| upscale.render(gpu, f))?;
@@ -165,7 +175,8 @@ pub fn write_report(dir: &Path, adapter: &AdapterDescription, sweep: &CbrSweep, 
         "# CBR: error against GPU time\n\nAdapter: {} ({}). {}x{}, {} lights, {} frames a sequence; the last \
          frame is compared with full resolution (display-referred PSNR, mean FLIP); GPU time is the median \
          frame after the first; each speed-up is over full resolution shaded the same way (forward or \
-         deferred).\n\n\
+         deferred) and rasterised as the checkerboard's views are (path column: turned a quarter for the \
+         offset passes, then turned back; upright for the 2x path and the upscale).\n\n\
          | sequence | method | path | shading | detection | GPU ms | speed-up | PSNR dB | FLIP |\n\
          |---|---|---|---|---|---:|---:|---:|---:|\n",
         adapter.name, adapter.backend, sweep.size.0, sweep.size.1, sweep.lights, sweep.frames
@@ -173,9 +184,14 @@ pub fn write_report(dir: &Path, adapter: &AdapterDescription, sweep: &CbrSweep, 
     for row in rows {
         // The baseline shaded the same way (forward for the upscale, which renders forward).
         let shading = if row.method == "half_upscale" { Shading::Forward.name() } else { row.shading.as_str() };
+        // ... and rasterised as its views are: turned for the offset passes, else upright.
+        let turned = row.path == CheckerboardPath::OffsetPasses.name();
+        let orientation = if turned { Orientation::Turned } else { Orientation::Upright }.name();
         let fullres = rows
             .iter()
-            .find(|r| r.method == "fullres" && r.sequence == row.sequence && r.shading == shading)
+            .find(|r| {
+                r.method == "fullres" && r.sequence == row.sequence && r.shading == shading && r.path == orientation
+            })
             .map_or(f64::NAN, |r| r.gpu_ms);
         markdown.push_str(&format!(
             "| {} | {} | {} | {} | {} | {:.3} | {:.2}x | {:.2} | {:.4} |\n",
@@ -199,7 +215,7 @@ pub fn write_report(dir: &Path, adapter: &AdapterDescription, sweep: &CbrSweep, 
         .map(|r| PlotPoint {
             series: match r.method.as_str() {
                 "cbr" => format!("cbr {} {} {}", r.path, r.shading, r.detection),
-                "fullres" => format!("full resolution {}", r.shading),
+                "fullres" => format!("full resolution {} {}", r.shading, r.path),
                 other => other.replace('_', " "),
             },
             step: step(&r.sequence),

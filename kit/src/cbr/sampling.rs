@@ -144,6 +144,18 @@ pub fn quarter_projection(screen: (u32, u32), phase: u32, offset: [f32; 2]) -> g
     )
 }
 
+/// A quarter turn of clip space, x' = −y, y' = x: a rotation, so faces keep their winding. The
+/// offset passes draw each view through it into its Hq×Wq half of the sample layout (quarter pixel
+/// (x, y) of the Wq×Hq view lands on texel (y, Wq − 1 − x)). llvmpipe shades groups of 4×2 pixels
+/// and shades a partly covered group whole; turned, the vertical edges that dominate a scene of
+/// walls, columns and boxes run along the groups' long side and cut half as many of them.
+pub const QUARTER_TURN: glam::Mat4 = glam::Mat4::from_cols(
+    glam::Vec4::new(0.0, 1.0, 0.0, 0.0),
+    glam::Vec4::new(-1.0, 0.0, 0.0, 0.0),
+    glam::Vec4::new(0.0, 0.0, 1.0, 0.0),
+    glam::Vec4::new(0.0, 0.0, 0.0, 1.0),
+);
+
 /// Checks a screen size for checkerboarding (at least 2×2: a quarter pixel needs its diagonal).
 pub fn check_screen(screen: (u32, u32)) -> Result<()> {
     ensure!(screen.0 >= 2 && screen.1 >= 2, "checkerboard screen {screen:?} is smaller than 2x2");
@@ -198,6 +210,19 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn the_quarter_turn_puts_view_pixels_on_turned_texels() {
+        let (w, h) = (7.0f32, 5.0f32);
+        for (x, y) in [(0.5f32, 0.5f32), (6.5, 0.5), (2.5, 4.5), (0.0, 5.0)] {
+            let ndc = glam::Vec3::new(x / w * 2.0 - 1.0, 1.0 - y / h * 2.0, 0.5);
+            let turned = QUARTER_TURN.project_point3(ndc);
+            // The turned target is h wide and w tall.
+            let (tx, ty) = ((turned.x + 1.0) * 0.5 * h, (1.0 - turned.y) * 0.5 * w);
+            assert!((tx - y).abs() < 1e-5 && (ty - (w - x)).abs() < 1e-5, "({x}, {y}) -> ({tx}, {ty})");
+        }
+        assert!(QUARTER_TURN.determinant() > 0.0, "a turn keeps the winding");
     }
 
     #[test]
