@@ -1,6 +1,7 @@
 // 2x path: copies each sample of a 2x target into the sample layout (single-sampled, each
-// sample's view turned a quarter into its half), so that the reconstruction reads both paths' frames alike. Colour-like targets through
-// `fs_unpack_colour`, depth through `fs_unpack_depth` into a depth attachment.
+// sample's view turned a quarter into its half), so that the reconstruction reads both paths'
+// frames alike. Colour-like targets through `fs_unpack_colour`, depth through `fs_unpack_depth`
+// into a depth attachment.
 
 struct Layout {
     quarter: vec2i,

@@ -21,7 +21,8 @@ pub const LIGHTS: u32 = 200;
 pub struct CbrBench {
     /// Full resolution in each of `BASELINES`.
     full_resolution: Vec<FullResolutionScene>,
-    renderers: Vec<(String, CheckerboardPath, Shading, Checkerboard)>,
+    /// Each path this adapter has × `Shading::ALL`.
+    renderers: Vec<Checkerboard>,
     /// Each renderer's last frame index: its own sequence, so that every frame has the one
     /// before it as history and the phases alternate.
     frames: Vec<u32>,
@@ -47,13 +48,10 @@ impl CbrBench {
             .iter()
             .map(|&(shading, orientation)| FullResolutionScene::shaded(gpu, &scene, SIZE, shading, orientation))
             .collect::<Result<_>>()?;
-        let renderers: Vec<(String, CheckerboardPath, Shading, Checkerboard)> = paths
+        let renderers: Vec<Checkerboard> = paths
             .iter()
             .flat_map(|&path| Shading::ALL.map(|shading| (path, shading)))
-            .map(|(path, shading)| {
-                let renderer = Checkerboard::new(gpu, &scene, CheckerboardConfig::new(SIZE, path, shading))?;
-                Ok((format!("{}_{}", path.name(), shading.name()), path, shading, renderer))
-            })
+            .map(|(path, shading)| Checkerboard::new(gpu, &scene, CheckerboardConfig::new(SIZE, path, shading)))
             .collect::<Result<_>>()?;
         let frames = vec![0; renderers.len()];
         Ok(Self { full_resolution, renderers, frames })
@@ -71,18 +69,17 @@ impl Bench for CbrBench {
             Orientation::Upright => format!("full_resolution_{}", shading.name()),
             Orientation::Turned => format!("full_resolution_{}_turned", shading.name()),
         };
-        BASELINES.iter().map(baseline_name).chain(self.renderers.iter().map(|(n, ..)| n.clone())).collect()
+        let renderer_name = |r: &Checkerboard| format!("{}_{}", r.plan().path.name(), r.plan().shading.name());
+        BASELINES.iter().map(baseline_name).chain(self.renderers.iter().map(renderer_name)).collect()
     }
 
     fn baseline(&self, variant: usize) -> usize {
-        let Some((_, path, shading, _)) = variant.checked_sub(BASELINES.len()).map(|r| &self.renderers[r]) else {
+        let Some(renderer) = variant.checked_sub(BASELINES.len()).map(|r| &self.renderers[r]) else {
             return variant;
         };
-        let orientation = match path {
-            CheckerboardPath::OffsetPasses => Orientation::Turned,
-            CheckerboardPath::Msaa2x => Orientation::Upright,
-        };
-        BASELINES.iter().position(|&b| b == (*shading, orientation)).expect("every baseline is listed")
+        let plan = renderer.plan();
+        let baseline = (plan.shading, plan.path.orientation());
+        BASELINES.iter().position(|&b| b == baseline).expect("every baseline is listed")
     }
 
     fn run(&mut self, gpu: &Gpu, variant: usize) -> Result<Sample> {
@@ -94,7 +91,7 @@ impl Bench for CbrBench {
         // from the one before, as in a real sequence.
         let index = variant - baselines;
         self.frames[index] += 1;
-        let frame = self.renderers[index].3.render(gpu, self.frames[index])?;
+        let frame = self.renderers[index].render(gpu, self.frames[index])?;
         // Where the time goes: scene passes (shading) and the reconstruction.
         let reconstruct: f64 = frame
             .passes

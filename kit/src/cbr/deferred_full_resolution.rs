@@ -8,7 +8,7 @@
 use anyhow::Result;
 
 use super::frame::{BACKGROUND, TARGET_USAGE, shading_uniform};
-use super::sampling::QUARTER_TURN;
+use super::sampling::Orientation;
 use super::scene::CheckerboardScene;
 use super::scene_pass::{
     ALBEDO, DEPTH, DrawSet, HDR, NORMAL, ScenePassKind, ScenePipelines, SceneResources, TextureLod,
@@ -24,7 +24,7 @@ pub struct DeferredFullResolution {
     resources: SceneResources,
     scene: CheckerboardScene,
     screen: (u32, u32),
-    turned: bool,
+    orientation: Orientation,
     /// Normal + shininess, albedo + specular weight (read by `cbr.deferred_full_resolution`).
     pub gbuffer: [wgpu::Texture; 2],
     pub depth: wgpu::Texture,
@@ -38,19 +38,22 @@ fn view(texture: &wgpu::Texture) -> wgpu::TextureView {
 }
 
 impl DeferredFullResolution {
-    pub fn new(gpu: &Gpu, scene: &CheckerboardScene, screen: (u32, u32), turned: bool) -> Result<Self> {
+    pub fn new(gpu: &Gpu, scene: &CheckerboardScene, screen: (u32, u32), orientation: Orientation) -> Result<Self> {
         let pipelines = ScenePipelines::new(gpu, 1);
         let resources = SceneResources::new(gpu, &pipelines, scene, 1)?;
         let shade = FullscreenPipeline {
             label: "shade full resolution",
             fragment: shaders::CBR_SHADE_SAMPLES,
-            entry_point: if turned { "fs_shade_full_resolution_turned" } else { "fs_shade_full_resolution" },
+            entry_point: match orientation {
+                Orientation::Upright => "fs_shade_full_resolution",
+                Orientation::Turned => "fs_shade_full_resolution_turned",
+            },
             targets: &[Some(HDR.into())],
             depth_stencil: None,
             samples: 1,
         }
         .create(gpu);
-        let target = if turned { (screen.1, screen.0) } else { screen };
+        let target = orientation.target_size(screen);
         Ok(Self {
             gbuffer: [
                 gpu.texture("full-resolution gbuffer normal", target, NORMAL, 1, TARGET_USAGE),
@@ -62,7 +65,7 @@ impl DeferredFullResolution {
             resources,
             scene: scene.clone(),
             screen,
-            turned,
+            orientation,
             shade,
             timer: GpuTimer::new(gpu, 4),
         })
@@ -71,8 +74,7 @@ impl DeferredFullResolution {
     /// Records frame `index`: G-buffer, shading, transparents.
     pub fn record(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, index: u32) {
         let frame = self.scene.frame_view(index, self.screen);
-        let to_target = if self.turned { QUARTER_TURN } else { glam::Mat4::IDENTITY };
-        let clip = to_target * frame.full_from_world;
+        let clip = self.orientation.clip_transform() * frame.full_from_world;
         self.resources.write_view(gpu, 0, clip, &frame, self.screen, TextureLod::Bias(0.0));
         self.resources.write_objects(gpu, &frame);
         let (gbuffer, depth) = (self.gbuffer.each_ref().map(view), view(&self.depth));

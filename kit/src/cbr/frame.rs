@@ -6,9 +6,7 @@
 use anyhow::Result;
 
 use super::plan::{CheckerboardPlan, Shading};
-use super::sampling::{
-    CheckerboardPath, QUARTER_TURN, offset_for_sample, quarter_projection, quarter_size, sample_positions,
-};
+use super::sampling::{CheckerboardPath, offset_for_sample, quarter_projection, quarter_size, sample_positions};
 use super::scene::FrameView;
 use super::scene_pass::{
     ALBEDO, DEPTH, DrawSet, HDR, MOTION, NORMAL, ScenePassKind, ScenePipelines, SceneResources, TextureLod,
@@ -184,10 +182,7 @@ impl FramePasses {
     ) {
         for (slot, offset) in self.view_offsets().into_iter().enumerate() {
             let quarter = quarter_projection(self.screen, phase, offset);
-            let clip = match self.plan.path {
-                CheckerboardPath::Msaa2x => quarter,
-                CheckerboardPath::OffsetPasses => QUARTER_TURN * quarter,
-            } * view.full_from_world;
+            let clip = self.plan.path.orientation().clip_transform() * quarter * view.full_from_world;
             self.resources.write_view(gpu, slot, clip, view, self.screen, self.lod);
         }
         self.resources.write_objects(gpu, view);

@@ -19,4 +19,5 @@ pub mod scene_pass;
 
 pub use plan::{CheckerboardPlan, Shading};
 pub use reconstruct::{Detection, PixelSource};
-pub use renderer::{Checkerboard, CheckerboardConfig, FullResolutionScene, HalfResolutionUpscale, Orientation};
+pub use renderer::{Checkerboard, CheckerboardConfig, FullResolutionScene, HalfResolutionUpscale};
+pub use sampling::Orientation;

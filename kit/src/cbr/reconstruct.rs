@@ -157,27 +157,23 @@ impl Reconstruction {
         if with_motion {
             targets.push(Some(HDR.into()));
         }
-        let pipeline = FullscreenPipeline {
-            label: "reconstruction",
-            fragment: shaders::CBR_RECONSTRUCT,
-            entry_point: if with_motion { "fs_reconstruct_showing_motion" } else { "fs_reconstruct" },
-            targets: &targets,
-            depth_stencil: None,
-            samples: 1,
-        }
-        .create_specialised(gpu, &specialisation(plan, detection));
-        let nothing_moves = !plan.camera_reprojection && !plan.object_motion;
-        let still = (nothing_moves && !with_motion).then(|| {
+        let constants = specialisation(plan, detection);
+        let pipeline = |label, entry_point| {
             FullscreenPipeline {
-                label: "reconstruction of a still frame",
+                label,
                 fragment: shaders::CBR_RECONSTRUCT,
-                entry_point: "fs_reconstruct_still",
+                entry_point,
                 targets: &targets,
                 depth_stencil: None,
                 samples: 1,
             }
-            .create_specialised(gpu, &specialisation(plan, detection))
-        });
+            .create_specialised(gpu, &constants)
+        };
+        let entry_point = if with_motion { "fs_reconstruct_showing_motion" } else { "fs_reconstruct" };
+        let nothing_moves = !plan.camera_reprojection && !plan.object_motion;
+        let still = (nothing_moves && !with_motion)
+            .then(|| pipeline("reconstruction of a still frame", "fs_reconstruct_still"));
+        let pipeline = pipeline("reconstruction", entry_point);
         Self {
             pipeline,
             still,

@@ -8,7 +8,7 @@ use super::deferred_full_resolution::DeferredFullResolution;
 use super::frame::{BACKGROUND, CheckerboardFrame, FramePasses, TARGET_USAGE, layout_size};
 use super::plan::{CheckerboardPlan, Shading};
 use super::reconstruct::{Detection, Reconstruction, ReconstructionInputs};
-use super::sampling::{CheckerboardPath, QUARTER_TURN, check_screen, quarter_projection, quarter_size};
+use super::sampling::{CheckerboardPath, Orientation, check_screen, quarter_projection, quarter_size};
 use super::scene::CheckerboardScene;
 use super::scene_pass::{DEPTH, DrawSet, HDR, ScenePassKind, ScenePipelines, SceneResources, TextureLod};
 use crate::attachments;
@@ -202,24 +202,6 @@ impl ForwardImage {
     }
 }
 
-/// How a full-resolution frame is rasterised: upright, or turned a quarter as the offset passes
-/// draw their views (`QUARTER_TURN`; CPU rasterisers shade a turned corridor faster) and turned
-/// back upright by one more pass — the timing baseline of checkerboarding on the offset passes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Orientation {
-    Upright,
-    Turned,
-}
-
-impl Orientation {
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Upright => "upright",
-            Self::Turned => "turned",
-        }
-    }
-}
-
 /// The pass that turns a turned frame upright.
 struct TurnBack {
     pipeline: wgpu::RenderPipeline,
@@ -261,6 +243,7 @@ impl TurnBack {
 pub struct FullResolutionScene {
     image: FullResolutionImage,
     screen: (u32, u32),
+    orientation: Orientation,
     /// Where the frame is rasterised turned.
     turn_back: Option<TurnBack>,
 }
@@ -285,15 +268,16 @@ impl FullResolutionScene {
         orientation: Orientation,
     ) -> Result<Self> {
         crate::deferred::gbuffer::check_size(gpu, screen)?;
-        let turned = orientation == Orientation::Turned;
-        let target = if turned { (screen.1, screen.0) } else { screen };
         let image = match shading {
-            Shading::Forward => FullResolutionImage::Forward(Box::new(ForwardImage::new(gpu, scene, target)?)),
+            Shading::Forward => {
+                FullResolutionImage::Forward(Box::new(ForwardImage::new(gpu, scene, orientation.target_size(screen))?))
+            }
             Shading::Deferred => {
-                FullResolutionImage::Deferred(Box::new(DeferredFullResolution::new(gpu, scene, screen, turned)?))
+                FullResolutionImage::Deferred(Box::new(DeferredFullResolution::new(gpu, scene, screen, orientation)?))
             }
         };
-        Ok(Self { image, screen, turn_back: turned.then(|| TurnBack::new(gpu, screen)) })
+        let turn_back = (orientation == Orientation::Turned).then(|| TurnBack::new(gpu, screen));
+        Ok(Self { image, screen, orientation, turn_back })
     }
 
     /// The deferred image's targets as rasterised (turned where the frame is).
@@ -316,7 +300,7 @@ impl FullResolutionScene {
     /// Renders frame `index`; its GPU time.
     pub fn render(&mut self, gpu: &Gpu, index: u32) -> Result<f64> {
         let screen = self.screen;
-        let to_target = if self.turn_back.is_some() { QUARTER_TURN } else { glam::Mat4::IDENTITY };
+        let to_target = self.orientation.clip_transform();
         let turn_back = &self.turn_back;
         let timer = gpu.scoped("full-resolution frame", || {
             let mut encoder = gpu.encoder("full-resolution frame");

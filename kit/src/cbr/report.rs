@@ -11,8 +11,8 @@ use serde::Serialize;
 use super::measure::{measure_against, read_hdr};
 use super::plan::Shading;
 use super::reconstruct::Detection;
-use super::renderer::{Checkerboard, CheckerboardConfig, FullResolutionScene, HalfResolutionUpscale, Orientation};
-use super::sampling::CheckerboardPath;
+use super::renderer::{Checkerboard, CheckerboardConfig, FullResolutionScene, HalfResolutionUpscale};
+use super::sampling::{CheckerboardPath, Orientation};
 use super::scene::{CheckerboardScene, Motion, textured_corridor};
 use crate::gpu::{AdapterDescription, Gpu};
 use crate::plot::{PlotPoint, tradeoff};
@@ -185,8 +185,9 @@ pub fn write_report(dir: &Path, adapter: &AdapterDescription, sweep: &CbrSweep, 
         // The baseline shaded the same way (forward for the upscale, which renders forward).
         let shading = if row.method == "half_upscale" { Shading::Forward.name() } else { row.shading.as_str() };
         // ... and rasterised as its views are: turned for the offset passes, else upright.
-        let turned = row.path == CheckerboardPath::OffsetPasses.name();
-        let orientation = if turned { Orientation::Turned } else { Orientation::Upright }.name();
+        let path =
+            [CheckerboardPath::OffsetPasses, CheckerboardPath::Msaa2x].into_iter().find(|p| p.name() == row.path);
+        let orientation = path.map_or(Orientation::Upright, CheckerboardPath::orientation).name();
         let fullres = rows
             .iter()
             .find(|r| {

@@ -28,6 +28,15 @@ pub enum CheckerboardPath {
 }
 
 impl CheckerboardPath {
+    /// How this path rasterises its views: the offset passes turned a quarter, the 2x target
+    /// upright.
+    pub fn orientation(self) -> Orientation {
+        match self {
+            Self::Msaa2x => Orientation::Upright,
+            Self::OffsetPasses => Orientation::Turned,
+        }
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             Self::Msaa2x => "msaa2x",
@@ -155,6 +164,39 @@ pub const QUARTER_TURN: glam::Mat4 = glam::Mat4::from_cols(
     glam::Vec4::new(0.0, 0.0, 1.0, 0.0),
     glam::Vec4::new(0.0, 0.0, 0.0, 1.0),
 );
+
+/// How a frame is rasterised: upright, or turned a quarter (`QUARTER_TURN`) as the offset passes
+/// draw their views — the full-resolution baselines of checkerboarding draw both ways.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Orientation {
+    Upright,
+    Turned,
+}
+
+impl Orientation {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Upright => "upright",
+            Self::Turned => "turned",
+        }
+    }
+
+    /// Applied after a view's projection.
+    pub fn clip_transform(self) -> glam::Mat4 {
+        match self {
+            Self::Upright => glam::Mat4::IDENTITY,
+            Self::Turned => QUARTER_TURN,
+        }
+    }
+
+    /// The target a `(width, height)` image is rasterised into.
+    pub fn target_size(self, size: (u32, u32)) -> (u32, u32) {
+        match self {
+            Self::Upright => size,
+            Self::Turned => (size.1, size.0),
+        }
+    }
+}
 
 /// Checks a screen size for checkerboarding (at least 2×2: a quarter pixel needs its diagonal).
 pub fn check_screen(screen: (u32, u32)) -> Result<()> {
