@@ -13,6 +13,7 @@ pub mod texarray;
 
 /// Every case, in the order `fragkit check` runs them (opt-in ones only when named).
 pub const ALL: &[Case] = &[
+    kit::subpixel_precision::CASE,
     kit::msaa_sample_positions::CASE_1X,
     kit::msaa_sample_positions::CASE_2X,
     kit::msaa_sample_positions::CASE_4X,

@@ -57,6 +57,7 @@ macro_rules! case_tests {
 }
 
 case_tests! {
+    kit_raster_subpixel_precision => "kit.raster.subpixel_precision",
     kit_msaa_sample_positions_1x => "kit.msaa.sample_positions.1x",
     kit_msaa_sample_positions_2x => "kit.msaa.sample_positions.2x",
     kit_msaa_sample_positions_4x => "kit.msaa.sample_positions.4x",

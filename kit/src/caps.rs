@@ -10,6 +10,7 @@ use crate::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 use crate::probe::sample_positions::{
     PerSampleShading, PositionsMeasurement, SamplePosition, measure, measure_per_sample_shading, standard_positions,
 };
+use crate::probe::subpixel_precision::{self, COARSEST_SNAP, SubpixelPrecision};
 
 /// Formats whose multisample support the report lists.
 pub const PROBED_FORMATS: &[wgpu::TextureFormat] = &[
@@ -44,6 +45,8 @@ pub struct MultisampleMeasurement {
 pub struct Caps {
     pub adapter: AdapterDescription,
     pub max_texture_dimension_2d: u32,
+    /// The rasteriser's vertex snapping, measured (the kit's expectations assume only 4 bits).
+    pub subpixel_precision: Result<SubpixelPrecision, String>,
     pub format_samples: Vec<FormatSamples>,
     /// Sample counts advertised for every probed colour and depth format alike.
     pub advertised_sample_counts: Vec<u32>,
@@ -74,15 +77,18 @@ pub fn common_sample_counts(gpu: &Gpu) -> Vec<u32> {
         .collect()
 }
 
-/// True when each sample's measured interval holds its standard position and no two samples
-/// share a place.
+/// True when each sample's measured interval holds its standard position, give or take what
+/// vertex snapping at the coarsest precision Vulkan and GL permit (4 bits) may move the swept
+/// edge: less than 1/16 px. Standard positions lie 1/8 px apart or more on each axis, so no
+/// sample can pass for another's.
 pub fn matches_standard(samples: u32, positions: &[SamplePosition]) -> bool {
     let Some(table) = standard_positions(samples) else {
         return false;
     };
     positions.len() == table.len()
         && positions.iter().zip(table).all(|(measured, &[x, y])| {
-            measured.x.is_some_and(|i| i.contains(x)) && measured.y.is_some_and(|i| i.contains(y))
+            measured.x.is_some_and(|i| i.within(COARSEST_SNAP, x))
+                && measured.y.is_some_and(|i| i.within(COARSEST_SNAP, y))
         })
 }
 
@@ -117,6 +123,7 @@ impl Caps {
         Ok(Self {
             adapter: gpu.description.clone(),
             max_texture_dimension_2d: limits.max_texture_dimension_2d,
+            subpixel_precision: subpixel_precision::measure(gpu).map_err(|e| format!("{e:#}")),
             format_samples: PROBED_FORMATS
                 .iter()
                 .map(|&f| FormatSamples { format: format!("{f:?}"), advertised: advertised_sample_counts(gpu, f) })

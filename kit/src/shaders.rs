@@ -39,6 +39,7 @@ shader_files! {
     FULLSCREEN => "kit/fullscreen.wgsl",
     SAMPLE_POSITION => "kit/sample_position.wgsl",
     SAMPLE_COVERAGE_RECORD => "kit/sample_coverage_record.wgsl",
+    SLOPED_EDGE => "kit/sloped_edge.wgsl",
     ALPHA_RAMP => "kit/alpha_ramp.wgsl",
     HEAVY_SHADING => "kit/heavy_shading.wgsl",
     FRAGMENT_COUNTER => "kit/fragment_counter.wgsl",

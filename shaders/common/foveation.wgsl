@@ -21,9 +21,11 @@ fn squared_distance_to_focus(pixel_centre: vec2f, foveation: Foveation) -> f32 {
 }
 
 // The level of a pixel at squared distance `squared` from the focus: the boundaries it reaches.
+// Counted by converting the comparisons, not by a vector `select`: naga writes that as an integer
+// `mix`, which GLSL before 4.50 lacks (kit.translate.integer_select reports it).
 fn level_of_squared_distance(squared: f32, foveation: Foveation) -> u32 {
-    let reached = select(vec4u(0u), vec4u(1u), vec4f(squared) >= foveation.squared_boundaries[0])
-        + select(vec4u(0u), vec4u(1u), vec4f(squared) >= foveation.squared_boundaries[1]);
+    let reached = vec4u(vec4f(squared) >= foveation.squared_boundaries[0])
+        + vec4u(vec4f(squared) >= foveation.squared_boundaries[1]);
     return reached.x + reached.y + reached.z + reached.w;
 }
 

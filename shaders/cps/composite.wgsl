@@ -176,7 +176,8 @@ fn fs_composite_seam_free(@builtin(position) position: vec4f) -> @location(0) ve
     let own = level_of(p);
     let a = sample_at(p, own);
     let d = p - a;
-    let toward = select(vec2i(1), vec2i(-1), p < a);
+    // 1 or −1 per axis, without a vector `select` (an integer `mix` before GLSL 4.50).
+    let toward = vec2i(1) - 2 * vec2i(p < a);
     let along_x = corners_along(p, own, a, 0u, toward.x);
     let along_y = corners_along(p, own, a, 1u, toward.y);
     // The first of the highest rank, in the order (x, y) nearer sides first.

@@ -75,16 +75,19 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 problems.push(format!("{key}: {wrong} of {checked} lit texels differ from the Phong of their block's centre pixel (worst {worst:.1}x the bound)"));
             }
 
-            // Indirect instance counts: zero exactly for the levels the input leaves absent.
+            // Indirect draw arguments, whole (the kit opens its device without wgpu's indirect
+            // validation): one full-screen triangle, one instance, zero instances exactly for the
+            // levels the input leaves absent.
             let shaded = expected_shaded_texels(size, &lod, top);
-            let expected_instances: Vec<u32> = shaded
+            let expected_draws: Vec<[u32; 4]> = shaded
                 .iter()
-                .map(|&texels| u32::from(!renderer.plan.skip_absent_levels_on_gpu || texels > 0))
+                .map(|&texels| [3, u32::from(!renderer.plan.skip_absent_levels_on_gpu || texels > 0), 0, 0])
                 .collect();
-            let instances = renderer.read_level_instance_counts(ctx.gpu)?;
-            ctx.metric(&format!("{key}.instances"), serde_json::json!({"measured": instances, "expected": expected_instances, "skips_absent_levels": renderer.plan.skip_absent_levels_on_gpu}));
-            if instances != expected_instances {
-                problems.push(format!("{key}: level draw instances {instances:?}, expected {expected_instances:?}"));
+            let draws = renderer.read_level_draws(ctx.gpu)?;
+            let instances: Vec<u32> = draws.iter().map(|d| d[1]).collect();
+            ctx.metric(&format!("{key}.instances"), serde_json::json!({"measured": instances, "expected": expected_draws.iter().map(|d| d[1]).collect::<Vec<_>>(), "skips_absent_levels": renderer.plan.skip_absent_levels_on_gpu}));
+            if draws != expected_draws {
+                problems.push(format!("{key}: level draw arguments {draws:?}, expected {expected_draws:?}"));
             }
         }
     }

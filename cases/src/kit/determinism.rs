@@ -8,6 +8,7 @@ use fragkit::fullscreen::{bind_group, uniform_buffer};
 use fragkit::gpu::Gpu;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::image_compare::{compare, side_by_side};
+use fragkit::probe::subpixel_precision::COARSEST_SNAP;
 use fragkit::readback::read_rgba8;
 use fragkit::scene::hash::SeededRng;
 use fragkit::shaders;
@@ -137,27 +138,35 @@ fn render(ctx: &mut Ctx, size: (u32, u32), vertices: &[Vertex], seed: u32) -> Re
     read_rgba8(gpu, &colour)
 }
 
-/// Distance (px) from an edge within which fixed-point snapping may decide coverage either way.
-const SNAP_MARGIN: f32 = 1.0 / 64.0;
-
-/// CPU coverage of pixel centres: Some(covered), or None where no triangle surely covers the
-/// centre and one has it within 1/64 px of an edge, where the rasteriser's fixed-point snapping
-/// may decide either way.
+/// CPU coverage of pixel centres: Some(covered), or None where the rasteriser's snapping of the
+/// vertices may decide either way. At the coarsest sub-pixel precision Vulkan and GL permit
+/// (4 bits) a vertex moves by less than δ = 1/16 px per axis, which changes the edge function
+/// E(p) = (b − a) × (p − a) by at most δ (2 |p − a|₁ + |b − a|₁) + 4δ² (the cross products of
+/// the moves, |u|∞, |v|∞ ≤ δ): a centre whose |E| exceeds that for every edge is decided.
 fn cpu_coverage(size: (u32, u32), vertices: &[Vertex], x: u32, y: u32) -> Option<bool> {
-    let p = [x as f32 + 0.5, y as f32 + 0.5];
-    let to_pixels =
-        |v: &Vertex| [(v.position[0] + 1.0) * 0.5 * size.0 as f32, (1.0 - v.position[1]) * 0.5 * size.1 as f32];
+    let delta = f64::from(COARSEST_SNAP);
+    let p = [f64::from(x) + 0.5, f64::from(y) + 0.5];
+    let to_pixels = |v: &Vertex| {
+        [
+            (f64::from(v.position[0]) + 1.0) * 0.5 * f64::from(size.0),
+            (1.0 - f64::from(v.position[1])) * 0.5 * f64::from(size.1),
+        ]
+    };
     let mut undecidable = false;
     for triangle in vertices.chunks_exact(3) {
         let [a, b, c] = [to_pixels(&triangle[0]), to_pixels(&triangle[1]), to_pixels(&triangle[2])];
-        let edge = |u: [f32; 2], v: [f32; 2]| {
-            let length = ((v[0] - u[0]).powi(2) + (v[1] - u[1]).powi(2)).sqrt().max(1e-12);
-            ((v[0] - u[0]) * (p[1] - u[1]) - (v[1] - u[1]) * (p[0] - u[0])) / length
+        // (edge function, the most snapping can change it)
+        let edge = |u: [f64; 2], v: [f64; 2]| {
+            let value = (v[0] - u[0]) * (p[1] - u[1]) - (v[1] - u[1]) * (p[0] - u[0]);
+            let reach = delta
+                * (2.0 * ((p[0] - u[0]).abs() + (p[1] - u[1]).abs()) + (v[0] - u[0]).abs() + (v[1] - u[1]).abs())
+                + 4.0 * delta * delta;
+            (value, reach)
         };
-        let distances = [edge(a, b), edge(b, c), edge(c, a)];
-        // Either winding: within the margin of this triangle's boundary counts as undecidable.
-        let inside_with_margin = |sign: f32| distances.iter().all(|&d| d * sign > -SNAP_MARGIN);
-        let surely_inside = |sign: f32| distances.iter().all(|&d| d * sign >= SNAP_MARGIN);
+        let edges = [edge(a, b), edge(b, c), edge(c, a)];
+        // Either winding: within reach of this triangle's boundary counts as undecidable.
+        let inside_with_margin = |sign: f64| edges.iter().all(|&(e, reach)| e * sign > -reach);
+        let surely_inside = |sign: f64| edges.iter().all(|&(e, reach)| e * sign > reach);
         if surely_inside(1.0) || surely_inside(-1.0) {
             return Some(true);
         }

@@ -10,3 +10,4 @@ pub mod msaa_sample_positions;
 pub mod occlusion_exact;
 pub mod sample_mask;
 pub mod scissor_msaa;
+pub mod subpixel_precision;

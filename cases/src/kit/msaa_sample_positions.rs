@@ -1,5 +1,6 @@
 //! `kit.msaa.sample_positions.Nx`: where an N-sample target really puts its samples, found by
-//! an edge sweep in 1/256-pixel steps, against the standard tables; and what
+//! an edge sweep in 1/256-pixel steps, against the standard tables give or take what 4-bit vertex
+//! snapping (the coarsest Vulkan and GL allow) may move the swept edge; and what
 //! `@builtin(position)` reports under per-sample shading.
 
 use anyhow::{Context, Result};
@@ -8,6 +9,7 @@ use fragkit::harness::{Case, Ctx, Outcome};
 use fragkit::probe::sample_positions::{
     STEPS, SamplePosition, measure, measure_per_sample_shading, standard_positions,
 };
+use fragkit::probe::subpixel_precision::COARSEST_SNAP;
 
 macro_rules! sample_positions_case {
     ($const:ident, $samples:literal, $name:literal) => {
@@ -31,12 +33,17 @@ sample_positions_case!(CASE_2X, 2, "kit.msaa.sample_positions.2x");
 sample_positions_case!(CASE_4X, 4, "kit.msaa.sample_positions.4x");
 sample_positions_case!(CASE_8X, 8, "kit.msaa.sample_positions.8x");
 
-/// Names what `@builtin(position)` gave for one sample: its location, the pixel centre, or else.
+/// Names what `@builtin(position)` gave for one sample: its location (as far as the snapped sweep
+/// locates it), the pixel centre, or else.
 fn position_builtin_meaning(reported: [f32; 2], sample: &SamplePosition) -> String {
+    let at_sample = match (sample.x, sample.y) {
+        (Some(x), Some(y)) => x.within(COARSEST_SNAP, reported[0]) && y.within(COARSEST_SNAP, reported[1]),
+        _ => false,
+    };
     let step = 1.0 / STEPS as f32;
     let near = |a: [f32; 2], b: [f32; 2]| (a[0] - b[0]).abs() <= step && (a[1] - b[1]).abs() <= step;
-    match sample.mid() {
-        Some(mid) if near(reported, mid) => "sample".into(),
+    match () {
+        _ if at_sample => "sample".into(),
         _ if near(reported, [0.5, 0.5]) => "centre".into(),
         _ => format!("other ({:.4}, {:.4})", reported[0], reported[1]),
     }
@@ -81,11 +88,14 @@ fn sample_positions(ctx: &mut Ctx, samples: u32) -> Result<Outcome> {
     };
     ctx.metric("positions", positions.iter().map(SamplePosition::mid).collect::<Vec<_>>());
 
-    // Expect: each sample's measured interval holds its standard position.
+    // Expect: each sample's standard position within one 4-bit grid step of where the swept
+    // edge crossed it (the adapter's own precision is reported, not relied on).
     ctx.metric("standard", standard);
     if !matches_standard(samples, &positions) {
         let mids: Vec<_> = positions.iter().map(SamplePosition::mid).collect();
-        problems.push(format!("positions {mids:?} differ from the standard {standard:?} by more than 1/{STEPS} px"));
+        problems.push(format!(
+            "positions {mids:?} differ from the standard {standard:?} by more than 4-bit snapping allows (1/16 px + 1/{STEPS} px)"
+        ));
     }
 
     // Per-sample shading: one invocation per sample, each seeing its own sample_index.

@@ -48,11 +48,12 @@ impl CpsRenderer {
         Ok(read_texture(gpu, &self.image, wgpu::TextureAspect::All, 0)?.as_f16())
     }
 
-    /// The instance count of each level's indirect lighting draw (levels 0..=top), as the frame
-    /// left them: 0 for a level the GPU found absent where the plan skips absent levels.
-    pub fn read_level_instance_counts(&self, gpu: &Gpu) -> Result<Vec<u32>> {
+    /// Each level's indirect lighting draw arguments (levels 0..=top: vertex count, instance
+    /// count, first vertex, first instance), as the frame left them: instance count 0 for a level
+    /// the GPU found absent where the plan skips absent levels.
+    pub fn read_level_draws(&self, gpu: &Gpu) -> Result<Vec<[u32; 4]>> {
         let words = read_buffer_words(gpu, &self.level_draws)?;
-        Ok(words.chunks_exact(4).take(self.plan.levels() as usize).map(|draw| draw[1]).collect())
+        Ok(words.chunks_exact(4).take(self.plan.levels() as usize).map(|d| [d[0], d[1], d[2], d[3]]).collect())
     }
 
     /// Level `level`'s stencil (data region only): 1 where the level shades.

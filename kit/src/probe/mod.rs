@@ -8,3 +8,4 @@ pub mod occlusion;
 pub mod sample_mask;
 pub mod sample_positions;
 pub mod stencil_gated_draw;
+pub mod subpixel_precision;

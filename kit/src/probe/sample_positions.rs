@@ -1,7 +1,9 @@
 //! Where an adapter puts the samples of an N-sample pixel, found by sweeping an edge across a
 //! pixel in 1/256-pixel steps. One draw covers the whole sweep: pixel i of a 256-pixel strip holds
 //! a rect whose left (or top) edge sits i/256 into that pixel, so sample k is covered in pixels
-//! 0..c_k and its coordinate lies in [(c_k - 1)/256, c_k/256].
+//! 0..c_k and the edge crossed it between (c_k - 1)/256 and c_k/256. The rasteriser snaps that
+//! edge to its sub-pixel grid first (`probe::subpixel_precision`: 1/16 px may be all there is), so
+//! the interval is where the *edge* was, and the sample lies within one grid step of it.
 //!
 //! Three independent routes read which samples are covered: a per-sample resolve (the pipeline's
 //! sample mask lets only sample k write, the resolve averages it into a plain texel); where
@@ -19,7 +21,8 @@ use crate::query::OcclusionQueries;
 use crate::readback::{map_buffer, read_rgba8};
 use crate::rects::{Rect, RectBatch, RectFragment, RectPipeline, stencil_equal, stencil_replace};
 
-/// Sweep steps per pixel; rasterisers snap to at least 8 sub-pixel bits, so finer steps mean nothing.
+/// Sweep steps per pixel: the sub-pixel precision probe's resolution (8 bits, the finest grid
+/// seen on real rasterisers; the specifications promise only 4).
 pub const STEPS: u32 = 256;
 
 /// An interval [lo, hi] (pixels from the pixel's top-left corner) holding one sample coordinate.
@@ -34,8 +37,9 @@ impl Interval {
         (count > 0).then(|| Self { lo: (count - 1) as f32 / STEPS as f32, hi: count as f32 / STEPS as f32 })
     }
 
-    pub fn contains(&self, value: f32) -> bool {
-        self.lo <= value && value <= self.hi
+    /// True when `value` lies within `margin` of the interval.
+    pub fn within(&self, margin: f32, value: f32) -> bool {
+        self.lo - margin <= value && value <= self.hi + margin
     }
 
     pub fn mid(&self) -> f32 {
