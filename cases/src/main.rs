@@ -57,8 +57,8 @@ fn run(cli: Cli) -> Result<ExitCode> {
     fragkit::shaders::check_shader_dir()?;
     let selector = AdapterSelector { backend: cli.backend, adapter_name: cli.adapter };
     match cli.command {
-        Command::Adapters => cli::adapters::adapters(cli.verbose)?,
-        Command::Caps { json } => cli::caps::caps(&selector, json)?,
+        Command::Adapters(args) => return cli::adapters::adapters(&selector, args, cli.verbose),
+        Command::Caps(args) => cli::caps::caps(&selector, args)?,
         Command::List { pattern } => cli::list::list(pattern)?,
         Command::Render { technique } => technique.run(&selector)?,
         Command::Report { technique } => technique.run(&selector)?,

@@ -6,7 +6,22 @@ use anyhow::{Context, Result};
 use fragkit::caps::Caps;
 use fragkit::gpu::{AdapterSelector, Gpu};
 
-pub fn caps(selector: &AdapterSelector, json: Option<PathBuf>) -> Result<()> {
+use super::matrix::{MatrixArgs, Show, arguments_without, check_selection_is_free, run_children};
+
+#[derive(clap::Args)]
+pub struct CapsArgs {
+    /// Also write the report as JSON (with --matrix: `<reports>/<name>.caps.json` each).
+    #[arg(long)]
+    json: Option<PathBuf>,
+    #[command(flatten)]
+    matrix: MatrixArgs,
+}
+
+pub fn caps(selector: &AdapterSelector, args: CapsArgs) -> Result<()> {
+    if let Some(names) = &args.matrix.matrix {
+        return caps_matrix(selector, &args, names);
+    }
+    let json = args.json;
     let gpu = Gpu::open(selector)?;
     let caps = Caps::measure(&gpu)?;
     print_caps(&caps);
@@ -17,10 +32,34 @@ pub fn caps(selector: &AdapterSelector, json: Option<PathBuf>) -> Result<()> {
     Ok(())
 }
 
+/// `caps --matrix`: each configuration measured in its own process, its output shown in turn.
+fn caps_matrix(selector: &AdapterSelector, args: &CapsArgs, names: &str) -> Result<()> {
+    check_selection_is_free(&selector.backend, &selector.adapter_name)?;
+    let matrix = args.matrix.load()?;
+    let reports = &args.matrix.reports;
+    let inherited = arguments_without(&["--matrix", "--adapters-file", "--reports", "--json", "--backend", "--adapter"]);
+    let runs = run_children(&matrix, names, reports, Show::Logs, |configuration| {
+        let mut arguments = inherited.clone();
+        arguments.extend(["--json".into(), reports.join(format!("{}.caps.json", configuration.file_stem())).into()]);
+        arguments
+    })?;
+    let failed: Vec<&str> = runs
+        .iter()
+        .filter(|run| run.status.is_some_and(|status| !status.success()))
+        .map(|run| run.configuration.name.as_str())
+        .collect();
+    anyhow::ensure!(failed.is_empty(), "caps failed on {}; their logs are in {}", failed.join(", "), reports.display());
+    Ok(())
+}
+
 fn print_caps(caps: &Caps) {
     let d = &caps.adapter;
     println!("adapter: {} ({}, {} {})", d.name, d.backend, d.driver, d.driver_info);
     println!("max 2D texture: {}", caps.max_texture_dimension_2d);
+    match &caps.subpixel_precision {
+        Ok(p) => println!("sub-pixel precision (measured): {} bits, vertices moved up to {} px", p.bits, p.largest_move),
+        Err(e) => println!("sub-pixel precision: measurement failed: {e}"),
+    }
     for f in &caps.format_samples {
         println!("sample counts advertised for {:<22} {:?}", f.format, f.advertised);
     }

@@ -2,6 +2,7 @@
 //! hand every record to the sinks asked for: the table, the JSON report, JUnit XML, the HTML
 //! report, the results database.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -9,12 +10,17 @@ use anyhow::{Context, Result};
 use fragkit::gpu::{AdapterSelector, Gpu};
 use fragkit::harness::database::{Database, DatabaseSink, RunInfo};
 use fragkit::harness::expectations::{BUILT_IN, Expectations};
-use fragkit::harness::html::HtmlSink;
+use fragkit::harness::html::{Column, HtmlSink, write_site};
+use fragkit::harness::report::{Report, ReportedOutcome};
 use fragkit::harness::junit::JunitSink;
 use fragkit::harness::params::parse_overrides;
-use fragkit::harness::run::{JsonSink, RunOptions, Shard, Sink, plan_runs, run};
+use fragkit::harness::run::{CaseRun, JsonSink, RunOptions, Shard, Sink, plan_runs, run};
+use fragkit::harness::stream::StreamSink;
+use fragkit::harness::Case;
 use fragkit::harness::runner::{check_overrides, check_sizes, select};
 
+use super::matrix::{MatrixArgs, Show, arguments_without, check_selection_is_free, log_tail, print_table, run_children};
+use super::supervise::supervise;
 use super::table::TableSink;
 
 #[derive(clap::Args)]
@@ -69,6 +75,18 @@ pub struct CheckArgs {
     /// Tag the recorded run (`fragkit compare tag:NAME …`).
     #[arg(long, requires = "db")]
     tag: Option<String>,
+    /// Seconds a case may go without recording before its process is killed and the case
+    /// recorded as `timeout` (the slowest default case takes under a minute on a 2-core CPU).
+    #[arg(long, value_name = "SECONDS", default_value_t = 600, value_parser = clap::value_parser!(u64).range(1..))]
+    timeout: u64,
+    /// Run as the child of a supervising `check`: stream each record into this file.
+    #[arg(long, hide = true)]
+    child_stream: Option<PathBuf>,
+    /// As a child: start at this case run of the list.
+    #[arg(long, hide = true, default_value_t = 0)]
+    skip: usize,
+    #[command(flatten)]
+    matrix: MatrixArgs,
 }
 
 /// Fails now, not after the run, when an output file cannot be written.
@@ -98,28 +116,19 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     for path in args.json.iter().chain(&args.junit) {
         check_writable(path)?;
     }
+    if let Some(names) = args.matrix.matrix.clone() {
+        return check_matrix(selector, &args, &names);
+    }
+    if let Some(stream) = &args.child_stream {
+        return run_child(selector, &args, stream, &cases, &overrides, shard, &expectations);
+    }
     // Open (and migrate) the database now: a wrong or newer one is refused before the run.
     let database = args.db.as_deref().map(Database::open).transpose()?;
-    let gpu = Gpu::open(selector)?;
-    let d = &gpu.description;
-    println!("adapter: {} ({}, {} {})", d.name, d.backend, d.driver, d.driver_info);
-
-    let mut runs = plan_runs(&cases, &overrides, args.sweep.map(|count| (count, args.seed)));
+    let runs = planned_runs(&args, &cases, &overrides, shard);
     if let Some(shard) = shard {
-        runs = shard.select(runs);
         println!("shard {}/{}: {} case runs", shard.index, shard.count, runs.len());
     }
-    for planned in &runs {
-        check_sizes(&gpu, &[planned.case], &planned.overrides)?;
-    }
 
-    let options = RunOptions {
-        expectations: &expectations,
-        evidence_dir: args.out.as_deref(),
-        reproduce_lines: args.sweep.is_some(),
-        retries: args.retry,
-        repeats: args.repeat,
-    };
     let mut table = TableSink::new(verbose);
     let mut json = args.json.as_deref().map(|path| JsonSink { path });
     let mut junit = args.junit.as_deref().map(|path| JunitSink { path, flaky_fails: args.flaky_fails });
@@ -132,11 +141,151 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     sinks.extend(junit.as_mut().map(|sink| sink as &mut dyn Sink));
     sinks.extend(database.as_mut().map(|sink| sink as &mut dyn Sink));
     sinks.extend(html.as_mut().map(|sink| sink as &mut dyn Sink));
-    let report = run(gpu, &runs, &options, &mut sinks)?;
+    // The child gets this command line without what only the parent writes.
+    let child_arguments = arguments_without(&["--json", "--junit", "--html", "--db", "--tag"]);
+    let timeout = std::time::Duration::from_secs(args.timeout);
+    let report = supervise(&runs, &child_arguments, &expectations, timeout, &mut sinks)?;
     if let Some(DatabaseSink { database, run_id: Some(id), .. }) = &database {
         println!("recorded as run {id} in {}", database.location());
     }
     let failures = report.failures(args.flaky_fails);
     println!("{} cases: {} unexpected failures", report.cases.len(), failures);
     Ok(if failures == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}
+
+/// The run's case list: every selected case (a sweep's draws), this shard's share of it.
+fn planned_runs<'c>(
+    args: &CheckArgs,
+    cases: &[&'c Case],
+    overrides: &BTreeMap<String, String>,
+    shard: Option<Shard>,
+) -> Vec<CaseRun<'c>> {
+    let runs = plan_runs(cases, overrides, args.sweep.map(|count| (count, args.seed)));
+    match shard {
+        Some(shard) => shard.select(runs),
+        None => runs,
+    }
+}
+
+/// The supervised child: runs the case list from `--skip` on one device, streaming each record.
+fn run_child(
+    selector: &AdapterSelector,
+    args: &CheckArgs,
+    stream: &Path,
+    cases: &[&Case],
+    overrides: &BTreeMap<String, String>,
+    shard: Option<Shard>,
+    expectations: &Expectations,
+) -> Result<ExitCode> {
+    let gpu = Gpu::open(selector)?;
+    let runs: Vec<CaseRun> = planned_runs(args, cases, overrides, shard).into_iter().skip(args.skip).collect();
+    for planned in &runs {
+        check_sizes(&gpu, &[planned.case], &planned.overrides)?;
+    }
+    let options = RunOptions {
+        expectations,
+        evidence_dir: args.out.as_deref(),
+        reproduce_lines: args.sweep.is_some(),
+        retries: args.retry,
+        repeats: args.repeat,
+    };
+    let mut sink = StreamSink::create(stream)?;
+    run(gpu, &runs, &options, &mut [&mut sink])?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `check --matrix`: every configuration in its own process, each writing its JSON report, JUnit
+/// XML and log into the reports folder (and its own database run), then one table of them all
+/// and, with --html, one HTML matrix with a column per configuration.
+fn check_matrix(selector: &AdapterSelector, args: &CheckArgs, names: &str) -> Result<ExitCode> {
+    check_selection_is_free(&selector.backend, &selector.adapter_name)?;
+    anyhow::ensure!(
+        args.json.is_none() && args.junit.is_none(),
+        "with --matrix each configuration writes <reports>/<name>.json and <name>.junit.xml; drop --json/--junit"
+    );
+    let matrix = args.matrix.load()?;
+    let reports = &args.matrix.reports;
+    let report_path = |stem: &str| reports.join(format!("{stem}.json"));
+    for configuration in matrix.select(names)? {
+        // A configuration that dies must not leave an earlier run's report to be read as its own.
+        let stale = report_path(&configuration.file_stem());
+        if stale.exists() {
+            std::fs::remove_file(&stale).with_context(|| format!("removing the old report {}", stale.display()))?;
+        }
+    }
+    let inherited = arguments_without(&[
+        "--matrix",
+        "--adapters-file",
+        "--reports",
+        "--out",
+        "--html",
+        "--backend",
+        "--adapter",
+    ]);
+    let runs = run_children(&matrix, names, reports, Show::Progress, |configuration| {
+        let stem = configuration.file_stem();
+        let mut arguments = inherited.clone();
+        arguments.extend(["--json".into(), report_path(&stem).into()]);
+        arguments.extend(["--junit".into(), reports.join(format!("{stem}.junit.xml")).into()]);
+        if let Some(out) = &args.out {
+            arguments.extend(["--out".into(), out.join(&stem).into()]);
+        }
+        arguments
+    })?;
+
+    let mut columns = Vec::new();
+    let mut table = vec![[
+        "configuration".to_owned(),
+        "adapter".to_owned(),
+        "pass".to_owned(),
+        "known_issue".to_owned(),
+        "not_supported".to_owned(),
+        "unexpected".to_owned(),
+        "ending".to_owned(),
+    ]];
+    let mut details = Vec::new();
+    let mut failed = false;
+    for run in &runs {
+        let name = run.configuration.name.clone();
+        if run.absent_because.is_some() {
+            table.push([name, "-".into(), "-".into(), "-".into(), "-".into(), "-".into(), run.ending()]);
+            continue;
+        }
+        let path = report_path(&run.configuration.file_stem());
+        let Ok(report) = Report::read(&path) else {
+            failed = true;
+            table.push([name.clone(), "?".into(), "-".into(), "-".into(), "-".into(), "no report".into(), run.ending()]);
+            details.push(format!("{name}: no report ({}); the log ends:\n{}", run.ending(), log_tail(&run.log, 8)));
+            continue;
+        };
+        let count = |outcome: ReportedOutcome| report.cases.iter().filter(|c| c.outcome == outcome).count().to_string();
+        let unexpected = report.failures(args.flaky_fails);
+        failed |= unexpected > 0;
+        for case in report.cases.iter().filter(|c| c.outcome.is_failure(args.flaky_fails)) {
+            let reason: String = case.reason.chars().take(240).collect();
+            details.push(format!("{name}: {} {}: {reason}", case.run_name(), case.outcome.label()));
+        }
+        table.push([
+            name.clone(),
+            report.adapter.name.clone(),
+            count(ReportedOutcome::Pass),
+            count(ReportedOutcome::KnownIssue),
+            count(ReportedOutcome::NotSupported),
+            unexpected.to_string(),
+            run.ending(),
+        ]);
+        columns.push(Column { label: name, report });
+    }
+    print_table(&table);
+    for line in &details {
+        println!("{line}");
+    }
+    if let Some(dir) = &args.html {
+        if !columns.is_empty() {
+            let index = write_site(dir, &columns, &[])?;
+            println!("HTML matrix: {}", index.display());
+        }
+    }
+    println!("reports, JUnit and logs: {}", reports.display());
+    Ok(if failed { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }

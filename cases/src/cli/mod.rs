@@ -9,11 +9,11 @@ pub mod history;
 pub mod html;
 pub mod import;
 pub mod list;
+pub mod matrix;
 pub mod merge;
+pub mod supervise;
 pub mod table;
 pub mod technique;
-
-use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -37,14 +37,11 @@ pub struct Cli {
 
 #[derive(Subcommand)]
 pub enum Command {
-    /// Every adapter on every backend.
-    Adapters,
+    /// Every adapter on every backend, and what each configuration of the adapter matrix
+    /// resolves to here (or why it is absent).
+    Adapters(adapters::AdaptersArgs),
     /// Measure the selected adapter's capabilities with tiny renders.
-    Caps {
-        /// Also write the report as JSON.
-        #[arg(long)]
-        json: Option<PathBuf>,
-    },
+    Caps(caps::CapsArgs),
     /// List cases with their parameters and requirements.
     List { pattern: Option<String> },
     /// Render a technique's intermediates and results as PNGs for a person to look at.

@@ -94,7 +94,8 @@ impl TableSink {
 }
 
 impl Sink for TableSink {
-    fn start(&mut self, _adapter: &fragkit::gpu::AdapterDescription, runs: usize) -> anyhow::Result<()> {
+    fn start(&mut self, d: &fragkit::gpu::AdapterDescription, runs: usize) -> anyhow::Result<()> {
+        println!("adapter: {} ({}, {} {})", d.name, d.backend, d.driver, d.driver_info);
         self.progress = indicatif::ProgressBar::new(runs as u64);
         self.progress
             .set_style(indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").expect("static template"));

@@ -143,7 +143,14 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         ctx.metric(&format!("{samples}x.pixels_differing"), difference.differing_pixels);
         if difference.differing_pixels > 0 {
             ctx.evidence_image(&format!("{samples}x"), &side_by_side(&result, &expected, &mask))?;
-            problems.push(format!("{samples}x: {} pixels differ from the scissor rect", difference.differing_pixels));
+            // Which way they differ says where: samples drawn outside the rect (the rasteriser),
+            // or pixels the resolve never wrote (still the new texture's zeros: the resolve).
+            let unresolved = result.pixels().filter(|p| p.0 == [0; 4]).count() as u64;
+            problems.push(if unresolved == difference.differing_pixels {
+                format!("{samples}x: {unresolved} pixels outside the scissor rect never resolved (still the texture's zeros)")
+            } else {
+                format!("{samples}x: {} pixels differ from the scissor rect", difference.differing_pixels)
+            });
         }
         if precision == OcclusionPrecision::Exact {
             let measured = scissored_stencil_count(ctx, size, samples, &s)?;

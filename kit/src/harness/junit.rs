@@ -76,7 +76,11 @@ pub fn to_junit(report: &Report, flaky_fails: bool) -> String {
             ReportedOutcome::Flaky if !flaky_fails => {
                 Some(format!("      <system-out>{}</system-out>\n", escape(&case.reason)))
             }
-            ReportedOutcome::Fail | ReportedOutcome::UnexpectedPass | ReportedOutcome::Flaky => Some(format!(
+            ReportedOutcome::Fail
+            | ReportedOutcome::UnexpectedPass
+            | ReportedOutcome::Flaky
+            | ReportedOutcome::Crash
+            | ReportedOutcome::Timeout => Some(format!(
                 "      <failure message=\"{}\" type=\"{}\">{}</failure>\n",
                 escape(first_line),
                 case.outcome.label(),

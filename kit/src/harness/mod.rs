@@ -10,11 +10,13 @@ pub mod expectations;
 pub mod html;
 pub mod junit;
 pub mod markup;
+pub mod matrix;
 pub mod noise;
 pub mod params;
 pub mod report;
 pub mod run;
 pub mod runner;
+pub mod stream;
 pub mod sweep;
 
 pub use case::{Case, Ctx, Outcome};

@@ -24,12 +24,17 @@ pub enum ReportedOutcome {
     UnexpectedPass,
     /// Failed, then passed when run again (`--retry`): for a deterministic kit, a finding.
     Flaky,
+    /// The process running the case died (a signal, an abort) before recording it.
+    Crash,
+    /// The case ran past its time limit and its process was killed.
+    Timeout,
 }
 
 impl ReportedOutcome {
     /// Whether this outcome fails a CI run (a flaky case only when `flaky_fails`).
     pub fn is_failure(self, flaky_fails: bool) -> bool {
-        matches!(self, Self::Fail | Self::UnexpectedPass) || (flaky_fails && self == Self::Flaky)
+        matches!(self, Self::Fail | Self::UnexpectedPass | Self::Crash | Self::Timeout)
+            || (flaky_fails && self == Self::Flaky)
     }
 
     pub fn label(self) -> &'static str {
@@ -40,6 +45,8 @@ impl ReportedOutcome {
             Self::KnownIssue => "known_issue",
             Self::UnexpectedPass => "UNEXPECTED_PASS",
             Self::Flaky => "FLAKY",
+            Self::Crash => "CRASH",
+            Self::Timeout => "TIMEOUT",
         }
     }
 }

@@ -1,0 +1,172 @@
+//! `--matrix`: a subcommand run over the adapter matrix (`cases/adapters.toml`), each
+//! configuration in a child process of this binary with its environment set there (drivers read
+//! it when they load), its reports in a folder of the run's, and one summary at the end.
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitStatus, Stdio};
+
+use anyhow::{Context, Result, bail};
+use fragkit::harness::matrix::{Configuration, Matrix};
+
+#[derive(clap::Args, Clone, Debug)]
+pub struct MatrixArgs {
+    /// Run over the adapter matrix instead of one adapter: `all`, or configuration names
+    /// separated by commas (`fragkit adapters` lists them), each in a process of its own.
+    #[arg(long, value_name = "NAMES")]
+    pub matrix: Option<String>,
+    /// The adapter matrix file (default: the one built in, cases/adapters.toml).
+    #[arg(long, value_name = "FILE")]
+    pub adapters_file: Option<PathBuf>,
+    /// With --matrix: the folder for each configuration's reports and log.
+    #[arg(long, value_name = "DIR", default_value = "fragkit-matrix")]
+    pub reports: PathBuf,
+}
+
+impl MatrixArgs {
+    pub fn load(&self) -> Result<Matrix> {
+        match &self.adapters_file {
+            Some(path) => Matrix::load(path),
+            None => Matrix::built_in(),
+        }
+    }
+}
+
+/// What a configuration's child left behind.
+pub struct ChildRun<'a> {
+    pub configuration: &'a Configuration,
+    /// None when the configuration is absent from this machine.
+    pub status: Option<ExitStatus>,
+    pub absent_because: Option<String>,
+    pub log: PathBuf,
+}
+
+impl ChildRun<'_> {
+    /// How the child ended, in words: its exit code, or the signal that killed it.
+    pub fn ending(&self) -> String {
+        match (&self.status, &self.absent_because) {
+            (_, Some(why)) => format!("absent: {why}"),
+            (Some(status), None) => describe_status(status),
+            (None, None) => "not run".into(),
+        }
+    }
+}
+
+fn describe_status(status: &ExitStatus) -> String {
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::ExitStatusExt;
+        if let Some(signal) = status.signal() {
+            return format!("killed by signal {signal}{}", if status.core_dumped() { " (core dumped)" } else { "" });
+        }
+    }
+    match status.code() {
+        Some(code) => format!("exit {code}"),
+        None => "ended without a code".into(),
+    }
+}
+
+/// The command line this process was started with, after the program name, without the flags in
+/// `strip` (each with its value, as `--flag value` or `--flag=value`).
+pub fn arguments_without(strip: &[&str]) -> Vec<OsString> {
+    let mut kept = Vec::new();
+    let mut arguments = std::env::args_os().skip(1);
+    while let Some(argument) = arguments.next() {
+        let text = argument.to_string_lossy();
+        if strip.iter().any(|flag| text == *flag) {
+            arguments.next();
+        } else if !strip.iter().any(|flag| text.starts_with(&format!("{flag}="))) {
+            kept.push(argument);
+        }
+    }
+    kept
+}
+
+/// Refuses what --matrix cannot combine with: a backend or adapter chosen for all configurations.
+pub fn check_selection_is_free(backend: &Option<String>, adapter: &Option<String>) -> Result<()> {
+    if backend.is_some() || adapter.is_some() {
+        bail!(
+            "--matrix picks each configuration's backend and adapter; drop --backend/--adapter (or WGPU_BACKEND/WGPU_ADAPTER_NAME)"
+        );
+    }
+    Ok(())
+}
+
+/// What the parent prints while the children run.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Show {
+    Nothing,
+    /// A line as each configuration starts, or why it is absent.
+    Progress,
+    /// Progress, then each configuration's whole output as it ends.
+    Logs,
+}
+
+/// Runs this binary once per configuration of `names`: with `arguments(configuration)` after
+/// `--backend B --adapter A`, the variables any configuration sets cleared and this one's set,
+/// stdout and stderr into `<reports>/<name>.log`.
+pub fn run_children<'a>(
+    matrix: &'a Matrix,
+    names: &str,
+    reports: &Path,
+    show: Show,
+    arguments: impl Fn(&Configuration) -> Vec<OsString>,
+) -> Result<Vec<ChildRun<'a>>> {
+    let configurations = matrix.select(names)?;
+    std::fs::create_dir_all(reports).with_context(|| format!("creating the matrix folder {}", reports.display()))?;
+    let program = std::env::current_exe().context("finding this program to run each configuration")?;
+    let matrix_variables: Vec<&String> = matrix.configurations.iter().flat_map(|c| c.env.keys()).collect();
+    let mut runs = Vec::new();
+    for configuration in configurations {
+        let log = reports.join(format!("{}.log", configuration.file_stem()));
+        if let Some(why) = configuration.absent_because() {
+            if show != Show::Nothing {
+                println!("{}: absent ({why})", configuration.name);
+            }
+            runs.push(ChildRun { configuration, status: None, absent_because: Some(why), log });
+            continue;
+        }
+        let log_file = std::fs::File::create(&log).with_context(|| format!("creating {}", log.display()))?;
+        let mut command = Command::new(&program);
+        for variable in &matrix_variables {
+            command.env_remove(variable);
+        }
+        command
+            .envs(&configuration.env)
+            .env_remove("WGPU_BACKEND")
+            .env_remove("WGPU_ADAPTER_NAME")
+            .arg("--backend")
+            .arg(&configuration.backend)
+            .arg("--adapter")
+            .arg(&configuration.adapter)
+            .args(arguments(configuration))
+            .stdin(Stdio::null())
+            .stdout(log_file.try_clone().context("sharing the log file")?)
+            .stderr(log_file);
+        if show != Show::Nothing {
+            println!("{}: running ({})", configuration.name, log.display());
+        }
+        let status = command.status().with_context(|| format!("starting {} for {}", program.display(), configuration.name))?;
+        if show == Show::Logs {
+            println!("== {} ({})\n{}", configuration.name, describe_status(&status), log_tail(&log, usize::MAX));
+        }
+        runs.push(ChildRun { configuration, status: Some(status), absent_because: None, log });
+    }
+    Ok(runs)
+}
+
+/// The last `lines` lines of a log, for a child that ended without its report.
+pub fn log_tail(path: &Path, lines: usize) -> String {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let all: Vec<&str> = text.lines().collect();
+    all[all.len().saturating_sub(lines)..].join("\n")
+}
+
+/// Prints rows as columns padded to their widest cell; the first row is the heading.
+pub fn print_table<const N: usize>(rows: &[[String; N]]) {
+    let widths: Vec<usize> = (0..N).map(|i| rows.iter().map(|r| r[i].chars().count()).max().unwrap_or(0)).collect();
+    for row in rows {
+        let cells: Vec<String> = row.iter().zip(&widths).map(|(cell, &w)| format!("{cell:<w$}")).collect();
+        println!("{}", cells.join("  ").trim_end());
+    }
+}

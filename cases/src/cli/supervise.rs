@@ -1,0 +1,228 @@
+//! Cases run in a child process, as deqp-runner runs its case lists: a driver that aborts, a
+//! shader that never ends or a process killed from outside costs one case, not the run. The child
+//! (`check --child-stream FILE --skip N`) runs the case list from run N and streams each record;
+//! the parent hands the records to its sinks as they come, records the case a child died in as
+//! `crash` (or `timeout`, when no record came for `--timeout` seconds and the parent killed it) and
+//! starts a new child after it, so every output holds every case.
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, ExitStatus, Stdio};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, bail};
+use fragkit::gpu::AdapterDescription;
+use fragkit::harness::expectations::Expectations;
+use fragkit::harness::params::Params;
+use fragkit::harness::report::{CaseRecord, Report, ReportedOutcome};
+use fragkit::harness::run::{CaseRun, Sink};
+use fragkit::harness::stream::{StreamLine, read_new_lines};
+use fragkit::harness::sweep::reproduce_line;
+
+use super::matrix::log_tail;
+
+/// How often the parent looks for new records and a child's end.
+const POLL: Duration = Duration::from_millis(20);
+
+/// Files of one supervised run, removed when it ends.
+struct Scratch {
+    stream: PathBuf,
+    stderr: PathBuf,
+}
+
+impl Scratch {
+    fn new() -> Self {
+        let base = std::env::temp_dir().join(format!("fragkit-child-{}", std::process::id()));
+        Self { stream: base.with_extension("stream"), stderr: base.with_extension("stderr") }
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        std::fs::remove_file(&self.stream).ok();
+        std::fs::remove_file(&self.stderr).ok();
+    }
+}
+
+/// How a child ended, short of finishing its list.
+enum Death {
+    Status(ExitStatus),
+    TimedOut,
+}
+
+fn signal_name(signal: i32) -> &'static str {
+    match signal {
+        4 => "SIGILL",
+        6 => "SIGABRT",
+        7 => "SIGBUS",
+        8 => "SIGFPE",
+        9 => "SIGKILL",
+        11 => "SIGSEGV",
+        15 => "SIGTERM",
+        _ => "signal",
+    }
+}
+
+fn describe(status: &ExitStatus) -> String {
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::ExitStatusExt;
+        if let Some(signal) = status.signal() {
+            return format!("was killed by signal {signal} ({})", signal_name(signal));
+        }
+    }
+    format!("exited with {status} before recording it")
+}
+
+/// Runs `runs` in children of this program started with `arguments`, handing every record to
+/// `sinks`; returns the report.
+pub fn supervise(
+    runs: &[CaseRun],
+    arguments: &[OsString],
+    expectations: &Expectations,
+    timeout: Duration,
+    sinks: &mut [&mut dyn Sink],
+) -> Result<Report> {
+    let program = std::env::current_exe().context("finding this program to run the cases in a child")?;
+    let scratch = Scratch::new();
+    let mut report: Option<Report> = None;
+    let mut offset = 0u64;
+    let mut done = 0usize;
+    while done < runs.len() || report.is_none() {
+        let mut child = start_child(&program, arguments, &scratch, done)?;
+        let mut last_progress = Instant::now();
+        let (death, finished) = loop {
+            let exited = child.try_wait().context("waiting for the case child")?;
+            let (lines, next) = read_new_lines(&scratch.stream, offset)?;
+            offset = next;
+            let mut finished = false;
+            for line in lines {
+                last_progress = Instant::now();
+                match line {
+                    StreamLine::Start { adapter, runs: count } => {
+                        if report.is_none() {
+                            for sink in sinks.iter_mut() {
+                                sink.start(&adapter, done + count)?;
+                            }
+                            report = Some(Report { adapter, cases: Vec::new(), diagnostics: Vec::new() });
+                        }
+                    }
+                    StreamLine::Record(record) => {
+                        let report = report.as_mut().context("the case child recorded before it started")?;
+                        for sink in sinks.iter_mut() {
+                            sink.record(&record)?;
+                        }
+                        report.cases.push(*record);
+                        done += 1;
+                    }
+                    StreamLine::Finished { diagnostics } => {
+                        report.as_mut().context("the case child finished before it started")?.diagnostics.extend(diagnostics);
+                        finished = true;
+                    }
+                }
+            }
+            if finished {
+                let _ = child.wait();
+                break (None, true);
+            }
+            if let Some(status) = exited {
+                break (Some(Death::Status(status)), false);
+            }
+            if last_progress.elapsed() > timeout {
+                child.kill().ok();
+                let _ = child.wait();
+                break (Some(Death::TimedOut), false);
+            }
+            std::thread::sleep(POLL);
+        };
+        if finished {
+            break;
+        }
+        let stderr_tail = log_tail(&scratch.stderr, 12);
+        let Some(report) = report.as_mut() else {
+            // The child never opened its device: an input or setup error, in its own words.
+            bail!("{}", if stderr_tail.is_empty() { "the case child ended before opening a device".into() } else { stderr_tail });
+        };
+        let death = death.expect("a child that did not finish died");
+        if let Death::Status(status) = &death {
+            if status.code() == Some(2) {
+                // The child's own error (a device it could not reopen): what ran is kept.
+                for sink in sinks.iter_mut() {
+                    sink.finish(report)?;
+                }
+                bail!("{stderr_tail}");
+            }
+        }
+        let Some(run) = runs.get(done) else { break };
+        let record = death_record(run, &death, &stderr_tail, &report.adapter, expectations, timeout);
+        for sink in sinks.iter_mut() {
+            sink.record(&record)?;
+        }
+        report.cases.push(record);
+        done += 1;
+    }
+    let report = report.context("no case ran")?;
+    for sink in sinks.iter_mut() {
+        sink.finish(&report)?;
+    }
+    Ok(report)
+}
+
+fn start_child(program: &Path, arguments: &[OsString], scratch: &Scratch, skip: usize) -> Result<Child> {
+    let stderr = std::fs::File::create(&scratch.stderr)
+        .with_context(|| format!("creating {} for the case child's errors", scratch.stderr.display()))?;
+    Command::new(program)
+        .args(arguments)
+        .arg("--child-stream")
+        .arg(&scratch.stream)
+        .arg("--skip")
+        .arg(skip.to_string())
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(stderr)
+        .spawn()
+        .with_context(|| format!("starting {} for the cases", program.display()))
+}
+
+/// The record of the case a child died in: `crash` or `timeout`, or `known_issue` where the
+/// expectations list that death for this adapter.
+fn death_record(
+    run: &CaseRun,
+    death: &Death,
+    stderr_tail: &str,
+    adapter: &AdapterDescription,
+    expectations: &Expectations,
+    timeout: Duration,
+) -> CaseRecord {
+    let (outcome, what) = match death {
+        Death::Status(status) => (ReportedOutcome::Crash, format!("crash: the process running the case {}", describe(status))),
+        Death::TimedOut => (
+            ReportedOutcome::Timeout,
+            format!("timeout: no record for {} s; the process running the case was killed", timeout.as_secs()),
+        ),
+    };
+    let last_error = stderr_tail.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("(nothing on stderr)");
+    // One problem (the expectations split a failure at "; "), so a known issue can match it.
+    let why = format!("{what} (stderr ends: {last_error})");
+    let (outcome, reason) = match expectations.explain(run.case.name, adapter, &why) {
+        Some(known) if !known.is_empty() => {
+            let reasons: Vec<&str> = known.iter().map(|k| k.reason.as_str()).collect();
+            (ReportedOutcome::KnownIssue, format!("{why} [known: {}]", reasons.join(" | ")))
+        }
+        _ => (outcome, format!("{why} [reproduce: {} --backend {}]", reproduce_line(run.case, &run.overrides), adapter.backend)),
+    };
+    let params = Params::resolve(run.case.name, run.case.params, &run.overrides).map(|p| p.to_map()).unwrap_or_default();
+    CaseRecord {
+        name: run.case.name.to_owned(),
+        outcome,
+        reason,
+        params,
+        metrics: Default::default(),
+        gpu_ms: None,
+        gpu_ms_repeats: Vec::new(),
+        wall_ms: 0.0,
+        evidence: Vec::new(),
+        attempts: 1,
+        diagnostics: stderr_tail.lines().map(str::to_owned).collect(),
+    }
+}

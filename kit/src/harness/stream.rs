@@ -1,0 +1,100 @@
+//! The record stream between `fragkit check` and the child process that runs its cases: one
+//! JSON line per event, flushed as it happens, so that what a child recorded before it died (a
+//! driver abort, a hang the parent killed) is never lost. The parent reads the lines back, hands
+//! the records to its sinks, records the case the child died in as `crash` or `timeout`, and
+//! starts a new child after it.
+
+use std::fs::File;
+use std::io::Write;
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use serde::{Deserialize, Serialize};
+
+use super::report::{CaseRecord, Report};
+use super::run::Sink;
+use crate::gpu::AdapterDescription;
+
+#[derive(Debug, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StreamLine {
+    /// The child opened its device and will run this many case runs.
+    Start { adapter: AdapterDescription, runs: usize },
+    /// One case run finished.
+    Record(Box<CaseRecord>),
+    /// The child ran every case; what wgpu and the driver logged outside the cases.
+    Finished { diagnostics: Vec<String> },
+}
+
+/// Appends the stream's lines to a file.
+pub struct StreamSink {
+    file: File,
+}
+
+impl StreamSink {
+    pub fn create(path: &Path) -> Result<Self> {
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(path)
+            .with_context(|| format!("opening the record stream {}", path.display()))?;
+        Ok(Self { file })
+    }
+
+    fn write(&mut self, line: &StreamLine) -> Result<()> {
+        let mut text = serde_json::to_string(line)?;
+        text.push('\n');
+        self.file.write_all(text.as_bytes()).context("writing the record stream")?;
+        self.file.flush().context("flushing the record stream")
+    }
+}
+
+impl Sink for StreamSink {
+    fn start(&mut self, adapter: &AdapterDescription, runs: usize) -> Result<()> {
+        self.write(&StreamLine::Start { adapter: adapter.clone(), runs })
+    }
+
+    fn record(&mut self, record: &CaseRecord) -> Result<()> {
+        self.write(&StreamLine::Record(Box::new(record.clone())))
+    }
+
+    fn finish(&mut self, report: &Report) -> Result<()> {
+        self.write(&StreamLine::Finished { diagnostics: report.diagnostics.clone() })
+    }
+}
+
+/// Reads the complete lines a stream file holds past `offset` bytes; returns them and the offset
+/// after the last complete line (a line still being written is left for the next read).
+pub fn read_new_lines(path: &Path, offset: u64) -> Result<(Vec<StreamLine>, u64)> {
+    let bytes = match std::fs::read(path) {
+        Ok(bytes) => bytes,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok((Vec::new(), offset)),
+        Err(e) => return Err(e).with_context(|| format!("reading the record stream {}", path.display())),
+    };
+    let start = (offset as usize).min(bytes.len());
+    let complete = bytes[start..].iter().rposition(|&b| b == b'\n').map_or(start, |i| start + i + 1);
+    let mut lines = Vec::new();
+    for line in bytes[start..complete].split(|&b| b == b'\n').filter(|l| !l.is_empty()) {
+        lines.push(serde_json::from_slice(line).context("a record stream line is not valid")?);
+    }
+    Ok((lines, complete as u64))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_partly_written_line_waits_for_the_next_read() {
+        let path = std::env::temp_dir().join(format!("fragkit-stream-test-{}", std::process::id()));
+        let start = serde_json::to_string(&StreamLine::Start { adapter: AdapterDescription::default(), runs: 3 }).unwrap();
+        std::fs::write(&path, format!("{start}\n{{\"finished\"")).unwrap();
+        let (lines, offset) = read_new_lines(&path, 0).unwrap();
+        assert!(matches!(lines.as_slice(), [StreamLine::Start { runs: 3, .. }]));
+        assert_eq!(offset as usize, start.len() + 1);
+        std::fs::write(&path, format!("{start}\n{{\"finished\":{{\"diagnostics\":[]}}}}\n")).unwrap();
+        let (lines, _) = read_new_lines(&path, offset).unwrap();
+        assert!(matches!(lines.as_slice(), [StreamLine::Finished { .. }]));
+        std::fs::remove_file(&path).ok();
+    }
+}
