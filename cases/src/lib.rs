@@ -57,6 +57,9 @@ pub const ALL: &[Case] = &[
     // Opt-in (only when a pattern names them): see `fragkit::harness::runner::OPT_IN`.
     fault::validation_error::CASE,
     fault::device_loss::CASE,
+    fault::process_death::ABORT,
+    fault::process_death::SEGFAULT,
+    fault::hang::CASE,
     soak::cps::CASE,
     soak::oit::CASE,
     soak::cbr::CASE,

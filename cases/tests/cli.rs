@@ -134,6 +134,51 @@ fn faults_fail_their_own_case_and_the_run_goes_on_on_a_new_device() {
 }
 
 #[test]
+fn a_crashing_or_hanging_case_costs_that_case_and_the_run_goes_on_in_a_new_process() {
+    let path = std::env::temp_dir().join(format!("fragkit-crash-report-{}.json", std::process::id()));
+    let junit = path.with_extension("xml");
+    let (code, text) = fragkit(&[
+        "check",
+        "fault.abort",
+        "kit.hash.values",
+        "fault.segfault",
+        "fault.hang",
+        "kit.determinism",
+        "--timeout",
+        "3",
+        "--json",
+        path.to_str().unwrap(),
+        "--junit",
+        junit.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{text}");
+    let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let cases = report["cases"].as_array().unwrap();
+    let outcomes: Vec<(&str, &str)> =
+        cases.iter().map(|c| (c["name"].as_str().unwrap(), c["outcome"].as_str().unwrap())).collect();
+    assert_eq!(
+        outcomes,
+        [
+            ("fault.abort", "crash"),
+            ("kit.hash.values", "pass"),
+            ("fault.segfault", "crash"),
+            ("fault.hang", "timeout"),
+            ("kit.determinism", "pass")
+        ],
+        "{report}"
+    );
+    let reason = |i: usize| cases[i]["reason"].as_str().unwrap();
+    assert!(reason(0).contains("signal 6 (SIGABRT)") && reason(0).contains("aborting on purpose"), "{}", reason(0));
+    assert!(reason(2).contains("signal 11 (SIGSEGV)") && reason(2).contains("--backend"), "{}", reason(2));
+    assert!(reason(3).contains("no record for 3 s"), "{}", reason(3));
+    let xml = std::fs::read_to_string(&junit).unwrap();
+    assert_eq!(xml.matches("type=\"CRASH\"").count(), 2, "{xml}");
+    assert!(text.contains("5 cases: 3 unexpected failures"), "{text}");
+    std::fs::remove_file(&path).ok();
+    std::fs::remove_file(&junit).ok();
+}
+
+#[test]
 fn shards_run_every_case_once_and_merge_into_one_report_with_junit() {
     let dir = std::env::temp_dir().join(format!("fragkit-shards-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

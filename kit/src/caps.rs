@@ -68,6 +68,18 @@ pub fn advertised_sample_counts(gpu: &Gpu, format: wgpu::TextureFormat) -> Vec<u
     SAMPLE_COUNTS.iter().copied().filter(|n| claimed.contains(n)).collect()
 }
 
+/// The counts above 1 that every probed format claims but whose targets do not render, each
+/// with what the probe saw (`probe::multisample_render`).
+pub fn broken_sample_counts(gpu: &Gpu) -> Result<Vec<(u32, String)>> {
+    let mut broken = Vec::new();
+    for samples in common_sample_counts(gpu).into_iter().filter(|&n| n > 1) {
+        if let Some(problem) = crate::probe::multisample_render::render_problem(gpu, samples)? {
+            broken.push((samples, problem));
+        }
+    }
+    Ok(broken)
+}
+
 /// Sample counts that every probed format claims.
 pub fn common_sample_counts(gpu: &Gpu) -> Vec<u32> {
     SAMPLE_COUNTS

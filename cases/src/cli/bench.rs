@@ -81,7 +81,8 @@ fn bench_matrix(selector: &AdapterSelector, args: &BenchArgs, names: &str) -> Re
     check_selection_is_free(&selector.backend, &selector.adapter_name)?;
     let matrix = args.matrix.load()?;
     let reports = &args.matrix.reports;
-    let inherited = arguments_without(&["--matrix", "--adapters-file", "--reports", "--json", "--backend", "--adapter"]);
+    let inherited =
+        arguments_without(&["--matrix", "--adapters-file", "--reports", "--json", "--backend", "--adapter"]);
     let runs = run_children(&matrix, names, reports, Show::Logs, |configuration| {
         let mut arguments = inherited.clone();
         arguments.extend(["--json".into(), reports.join(format!("{}.bench.json", configuration.file_stem())).into()]);
@@ -92,6 +93,11 @@ fn bench_matrix(selector: &AdapterSelector, args: &BenchArgs, names: &str) -> Re
         .filter(|run| run.status.is_some_and(|status| !status.success()))
         .map(|run| run.configuration.name.as_str())
         .collect();
-    anyhow::ensure!(failed.is_empty(), "bench failed on {}; their logs are in {}", failed.join(", "), reports.display());
+    anyhow::ensure!(
+        failed.is_empty(),
+        "bench failed on {}; their logs are in {}",
+        failed.join(", "),
+        reports.display()
+    );
     Ok(())
 }

@@ -37,7 +37,8 @@ fn caps_matrix(selector: &AdapterSelector, args: &CapsArgs, names: &str) -> Resu
     check_selection_is_free(&selector.backend, &selector.adapter_name)?;
     let matrix = args.matrix.load()?;
     let reports = &args.matrix.reports;
-    let inherited = arguments_without(&["--matrix", "--adapters-file", "--reports", "--json", "--backend", "--adapter"]);
+    let inherited =
+        arguments_without(&["--matrix", "--adapters-file", "--reports", "--json", "--backend", "--adapter"]);
     let runs = run_children(&matrix, names, reports, Show::Logs, |configuration| {
         let mut arguments = inherited.clone();
         arguments.extend(["--json".into(), reports.join(format!("{}.caps.json", configuration.file_stem())).into()]);
@@ -57,7 +58,9 @@ fn print_caps(caps: &Caps) {
     println!("adapter: {} ({}, {} {})", d.name, d.backend, d.driver, d.driver_info);
     println!("max 2D texture: {}", caps.max_texture_dimension_2d);
     match &caps.subpixel_precision {
-        Ok(p) => println!("sub-pixel precision (measured): {} bits, vertices moved up to {} px", p.bits, p.largest_move),
+        Ok(p) => {
+            println!("sub-pixel precision (measured): {} bits, vertices moved up to {} px", p.bits, p.largest_move)
+        }
         Err(e) => println!("sub-pixel precision: measurement failed: {e}"),
     }
     for f in &caps.format_samples {

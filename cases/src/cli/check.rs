@@ -8,18 +8,20 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use fragkit::gpu::{AdapterSelector, Gpu};
+use fragkit::harness::Case;
 use fragkit::harness::database::{Database, DatabaseSink, RunInfo};
 use fragkit::harness::expectations::{BUILT_IN, Expectations};
 use fragkit::harness::html::{Column, HtmlSink, write_site};
-use fragkit::harness::report::{Report, ReportedOutcome};
 use fragkit::harness::junit::JunitSink;
 use fragkit::harness::params::parse_overrides;
+use fragkit::harness::report::{Report, ReportedOutcome};
 use fragkit::harness::run::{CaseRun, JsonSink, RunOptions, Shard, Sink, plan_runs, run};
-use fragkit::harness::stream::StreamSink;
-use fragkit::harness::Case;
 use fragkit::harness::runner::{check_overrides, check_sizes, select};
+use fragkit::harness::stream::StreamSink;
 
-use super::matrix::{MatrixArgs, Show, arguments_without, check_selection_is_free, log_tail, print_table, run_children};
+use super::matrix::{
+    MatrixArgs, Show, arguments_without, check_selection_is_free, log_tail, print_table, run_children,
+};
 use super::supervise::supervise;
 use super::table::TableSink;
 
@@ -144,7 +146,7 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     // The child gets this command line without what only the parent writes.
     let child_arguments = arguments_without(&["--json", "--junit", "--html", "--db", "--tag"]);
     let timeout = std::time::Duration::from_secs(args.timeout);
-    let report = supervise(&runs, &child_arguments, &expectations, timeout, &mut sinks)?;
+    let report = supervise(&runs, &child_arguments, &expectations, timeout, verbose, &mut sinks)?;
     if let Some(DatabaseSink { database, run_id: Some(id), .. }) = &database {
         println!("recorded as run {id} in {}", database.location());
     }
@@ -213,15 +215,8 @@ fn check_matrix(selector: &AdapterSelector, args: &CheckArgs, names: &str) -> Re
             std::fs::remove_file(&stale).with_context(|| format!("removing the old report {}", stale.display()))?;
         }
     }
-    let inherited = arguments_without(&[
-        "--matrix",
-        "--adapters-file",
-        "--reports",
-        "--out",
-        "--html",
-        "--backend",
-        "--adapter",
-    ]);
+    let inherited =
+        arguments_without(&["--matrix", "--adapters-file", "--reports", "--out", "--html", "--backend", "--adapter"]);
     let runs = run_children(&matrix, names, reports, Show::Progress, |configuration| {
         let stem = configuration.file_stem();
         let mut arguments = inherited.clone();
@@ -254,7 +249,15 @@ fn check_matrix(selector: &AdapterSelector, args: &CheckArgs, names: &str) -> Re
         let path = report_path(&run.configuration.file_stem());
         let Ok(report) = Report::read(&path) else {
             failed = true;
-            table.push([name.clone(), "?".into(), "-".into(), "-".into(), "-".into(), "no report".into(), run.ending()]);
+            table.push([
+                name.clone(),
+                "?".into(),
+                "-".into(),
+                "-".into(),
+                "-".into(),
+                "no report".into(),
+                run.ending(),
+            ]);
             details.push(format!("{name}: no report ({}); the log ends:\n{}", run.ending(), log_tail(&run.log, 8)));
             continue;
         };

@@ -146,7 +146,8 @@ pub fn run_children<'a>(
         if show != Show::Nothing {
             println!("{}: running ({})", configuration.name, log.display());
         }
-        let status = command.status().with_context(|| format!("starting {} for {}", program.display(), configuration.name))?;
+        let status =
+            command.status().with_context(|| format!("starting {} for {}", program.display(), configuration.name))?;
         if show == Show::Logs {
             println!("== {} ({})\n{}", configuration.name, describe_status(&status), log_tail(&log, usize::MAX));
         }

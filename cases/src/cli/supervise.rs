@@ -81,6 +81,7 @@ pub fn supervise(
     arguments: &[OsString],
     expectations: &Expectations,
     timeout: Duration,
+    verbose: bool,
     sinks: &mut [&mut dyn Sink],
 ) -> Result<Report> {
     let program = std::env::current_exe().context("finding this program to run the cases in a child")?;
@@ -116,7 +117,11 @@ pub fn supervise(
                         done += 1;
                     }
                     StreamLine::Finished { diagnostics } => {
-                        report.as_mut().context("the case child finished before it started")?.diagnostics.extend(diagnostics);
+                        report
+                            .as_mut()
+                            .context("the case child finished before it started")?
+                            .diagnostics
+                            .extend(diagnostics);
                         finished = true;
                     }
                 }
@@ -135,13 +140,24 @@ pub fn supervise(
             }
             std::thread::sleep(POLL);
         };
+        if verbose {
+            // What the child logged as it went (-v), after it.
+            eprint!("{}", std::fs::read_to_string(&scratch.stderr).unwrap_or_default());
+        }
         if finished {
             break;
         }
         let stderr_tail = log_tail(&scratch.stderr, 12);
         let Some(report) = report.as_mut() else {
             // The child never opened its device: an input or setup error, in its own words.
-            bail!("{}", if stderr_tail.is_empty() { "the case child ended before opening a device".into() } else { stderr_tail });
+            bail!(
+                "{}",
+                if stderr_tail.is_empty() {
+                    "the case child ended before opening a device".into()
+                } else {
+                    stderr_tail
+                }
+            );
         };
         let death = death.expect("a child that did not finish died");
         if let Death::Status(status) = &death {
@@ -195,7 +211,9 @@ fn death_record(
     timeout: Duration,
 ) -> CaseRecord {
     let (outcome, what) = match death {
-        Death::Status(status) => (ReportedOutcome::Crash, format!("crash: the process running the case {}", describe(status))),
+        Death::Status(status) => {
+            (ReportedOutcome::Crash, format!("crash: the process running the case {}", describe(status)))
+        }
         Death::TimedOut => (
             ReportedOutcome::Timeout,
             format!("timeout: no record for {} s; the process running the case was killed", timeout.as_secs()),
@@ -209,9 +227,13 @@ fn death_record(
             let reasons: Vec<&str> = known.iter().map(|k| k.reason.as_str()).collect();
             (ReportedOutcome::KnownIssue, format!("{why} [known: {}]", reasons.join(" | ")))
         }
-        _ => (outcome, format!("{why} [reproduce: {} --backend {}]", reproduce_line(run.case, &run.overrides), adapter.backend)),
+        _ => (
+            outcome,
+            format!("{why} [reproduce: {} --backend {}]", reproduce_line(run.case, &run.overrides), adapter.backend),
+        ),
     };
-    let params = Params::resolve(run.case.name, run.case.params, &run.overrides).map(|p| p.to_map()).unwrap_or_default();
+    let params =
+        Params::resolve(run.case.name, run.case.params, &run.overrides).map(|p| p.to_map()).unwrap_or_default();
     CaseRecord {
         name: run.case.name.to_owned(),
         outcome,

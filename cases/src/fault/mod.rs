@@ -1,7 +1,10 @@
 //! `fault.*`: fault injection, run only when named (`fragkit check 'fault.*'`). Each case breaks
-//! the GPU on purpose and therefore ends `fail`: what they check is the runner around them — the
-//! fault is captured in that case's record with its message, and the run goes on (on a new device
-//! after a loss). `cases/tests/cli.rs` runs them between ordinary cases and checks the report.
+//! the GPU or its process on purpose and therefore ends `fail`, `crash` or `timeout`: what they
+//! check is the runner around them — the fault is captured in that case's record with its
+//! message, and the run goes on (on a new device after a loss, in a new process after a crash or
+//! a hang). `cases/tests/cli.rs` runs them between ordinary cases and checks the report.
 
 pub mod device_loss;
+pub mod hang;
+pub mod process_death;
 pub mod validation_error;

@@ -6,6 +6,7 @@
 use anyhow::{Context, Result};
 use fragkit::caps::{common_sample_counts, matches_standard};
 use fragkit::harness::{Case, Ctx, Outcome};
+use fragkit::probe::multisample_render::render_problem;
 use fragkit::probe::sample_positions::{
     STEPS, SamplePosition, measure, measure_per_sample_shading, standard_positions,
 };
@@ -55,6 +56,11 @@ fn sample_positions(ctx: &mut Ctx, samples: u32) -> Result<Outcome> {
     ctx.metric("advertised_sample_counts", &advertised);
     if !advertised.contains(&samples) {
         return Ok(Outcome::NotSupported(format!("{samples}x multisampling (adapter offers {advertised:?})")));
+    }
+    if samples > 1 {
+        if let Some(problem) = render_problem(ctx.gpu, samples)? {
+            return Ok(Outcome::Fail(problem));
+        }
     }
     let standard = standard_positions(samples).context("no standard table for this count")?;
 

@@ -6,6 +6,7 @@ use anyhow::{Context, Result};
 use fragkit::attachments;
 use fragkit::caps::{common_sample_counts, matches_standard};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::probe::multisample_render::render_problem;
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 use fragkit::probe::sample_positions::{measure, standard_positions};
 use fragkit::query::OcclusionQueries;
@@ -122,6 +123,12 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         if !advertised.contains(&samples) {
             ctx.metric(&format!("{samples}x"), "not supported");
             continue;
+        }
+        if samples > 1 {
+            if let Some(problem) = render_problem(ctx.gpu, samples)? {
+                mismatches.push(problem);
+                continue;
+            }
         }
         // Expectations use the standard positions, which the edge sweep must confirm
         // (kit.msaa.sample_positions judges them); the pattern's edges avoid only those.

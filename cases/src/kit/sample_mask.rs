@@ -5,6 +5,7 @@
 use anyhow::Result;
 use fragkit::caps::common_sample_counts;
 use fragkit::harness::{Case, Ctx, Outcome};
+use fragkit::probe::multisample_render::render_problem;
 use fragkit::probe::sample_mask::measure_sample_mask;
 
 pub const CASE: Case = Case {
@@ -23,6 +24,10 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     }
     let mut problems = Vec::new();
     for samples in multisampled {
+        if let Some(problem) = render_problem(ctx.gpu, samples)? {
+            problems.push(problem);
+            continue;
+        }
         let results = measure_sample_mask(ctx.gpu, samples)?;
         for r in results.iter().filter(|r| !r.honoured()) {
             problems

@@ -7,6 +7,7 @@ use fragkit::attachments;
 use fragkit::caps::common_sample_counts;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::image_compare::{compare, side_by_side};
+use fragkit::probe::multisample_render::render_problem;
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 use fragkit::query::OcclusionQueries;
 use fragkit::readback::read_rgba8;
@@ -137,6 +138,12 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         if !advertised.contains(&samples) {
             ctx.metric(&format!("{samples}x"), "not supported");
             continue;
+        }
+        if samples > 1 {
+            if let Some(problem) = render_problem(ctx.gpu, samples)? {
+                problems.push(problem);
+                continue;
+            }
         }
         let result = scissored_fill(ctx, size, samples, &s)?;
         let (difference, mask) = compare(&result, &expected, 0)?;

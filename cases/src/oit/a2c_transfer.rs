@@ -46,10 +46,10 @@ fn plain_coverage_columns(gpu: &Gpu, samples: u32) -> Result<Vec<f32>> {
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let counts = multisample_counts(ctx.gpu);
-    if counts.is_empty() {
-        return Ok(Outcome::NotSupported("multisampling".into()));
-    }
+    let counts = match multisample_counts(ctx.gpu)? {
+        Ok(counts) => counts,
+        Err(outcome) => return Ok(outcome),
+    };
     let mut problems = Vec::new();
     for samples in counts {
         let mask_honoured = measure_sample_mask(ctx.gpu, samples)?.iter().all(|m| m.honoured());

@@ -62,10 +62,10 @@ fn quantised_expectation(transfer: &AlphaToCoverage, alpha: f64) -> (f64, f64) {
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let size = ctx.params.sizes("size")?[0];
     let frames = u32::try_from(ctx.params.count("frames")?)?.max(1);
-    let counts = multisample_counts(ctx.gpu);
-    if counts.is_empty() {
-        return Ok(Outcome::NotSupported("multisampling".into()));
-    }
+    let counts = match multisample_counts(ctx.gpu)? {
+        Ok(counts) => counts,
+        Err(outcome) => return Ok(outcome),
+    };
     let mut problems = Vec::new();
     for samples in counts {
         let transfer = measure_alpha_to_coverage(ctx.gpu, samples, false)?;

@@ -35,8 +35,9 @@ fn layer(alpha: f32) -> QuadScene {
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let size = (32, 32);
-    let Some(&samples) = multisample_counts(ctx.gpu).last() else {
-        return Ok(Outcome::NotSupported("multisampling".into()));
+    let samples = match multisample_counts(ctx.gpu)? {
+        Ok(counts) => *counts.last().expect("a non-empty list"),
+        Err(outcome) => return Ok(outcome),
     };
     let variants = available_variants(ctx.gpu, samples)?;
     let mut problems = Vec::new();

@@ -10,15 +10,33 @@ pub mod quads_converges;
 pub mod weighted_blended;
 
 use fragkit::Gpu;
-use fragkit::caps::{common_sample_counts, matches_standard};
+use fragkit::caps::{broken_sample_counts, common_sample_counts, matches_standard};
+use fragkit::harness::Outcome;
 use fragkit::probe::sample_positions::measure;
 
 /// Multisample counts to test: those the adapter claims, above 1, where a target of that count
-/// really renders that many samples at the standard positions (llvmpipe's GL "2x" runs 4).
-pub fn multisample_counts(gpu: &Gpu) -> Vec<u32> {
-    common_sample_counts(gpu)
-        .into_iter()
-        .filter(|&n| n > 1)
+/// really renders that many samples at the standard positions (llvmpipe's GL "2x" runs 4). With
+/// none, the outcome to end the case with: `not_supported` with what the probes found, or `fail`
+/// where an advertised count does not render at all (the adapter's or wgpu's failure, not a
+/// missing capability).
+pub fn multisample_counts(gpu: &Gpu) -> anyhow::Result<Result<Vec<u32>, Outcome>> {
+    let advertised: Vec<u32> = common_sample_counts(gpu).into_iter().filter(|&n| n > 1).collect();
+    let real: Vec<u32> = advertised
+        .iter()
+        .copied()
         .filter(|&n| measure(gpu, n).is_ok_and(|m| m.agreed().is_some_and(|p| matches_standard(n, p))))
-        .collect()
+        .collect();
+    if !real.is_empty() {
+        return Ok(Ok(real));
+    }
+    let broken = broken_sample_counts(gpu)?;
+    Ok(Err(if advertised.is_empty() {
+        Outcome::NotSupported("multisampling: the adapter advertises no count above 1".into())
+    } else if !broken.is_empty() {
+        Outcome::Fail(broken.into_iter().map(|(_, problem)| problem).collect::<Vec<_>>().join("; "))
+    } else {
+        Outcome::NotSupported(format!(
+            "multisampling: of the advertised {advertised:?}, no count renders its samples at the standard positions (kit.msaa.sample_positions.Nx)"
+        ))
+    }))
 }

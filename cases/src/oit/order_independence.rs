@@ -40,8 +40,9 @@ fn permutations(items: &[usize]) -> Vec<Vec<usize>> {
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let size = ctx.params.sizes("size")?[0];
-    let Some(&samples) = multisample_counts(ctx.gpu).last() else {
-        return Ok(Outcome::NotSupported("multisampling".into()));
+    let samples = match multisample_counts(ctx.gpu)? {
+        Ok(counts) => *counts.last().expect("a non-empty list"),
+        Err(outcome) => return Ok(outcome),
     };
     let variants = available_variants(ctx.gpu, samples)?;
     let scene = QuadScene::paper();

@@ -45,8 +45,9 @@ fn log_slope(points: &[(u32, f64)]) -> f64 {
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let size = ctx.params.sizes("size")?[0];
     let frames = *CHECKPOINTS.last().expect("checkpoints");
-    let Some(&samples) = multisample_counts(ctx.gpu).last() else {
-        return Ok(Outcome::NotSupported("multisampling".into()));
+    let samples = match multisample_counts(ctx.gpu)? {
+        Ok(counts) => *counts.last().expect("a non-empty list"),
+        Err(outcome) => return Ok(outcome),
     };
     // Expected: the exact composite at the positions this adapter samples.
     let Some(positions) =

@@ -72,7 +72,8 @@ impl Matrix {
     }
 
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).with_context(|| format!("reading adapter matrix {}", path.display()))?;
+        let text =
+            std::fs::read_to_string(path).with_context(|| format!("reading adapter matrix {}", path.display()))?;
         Self::parse(&text, &path.display().to_string())
     }
 

@@ -87,7 +87,8 @@ mod tests {
     #[test]
     fn a_partly_written_line_waits_for_the_next_read() {
         let path = std::env::temp_dir().join(format!("fragkit-stream-test-{}", std::process::id()));
-        let start = serde_json::to_string(&StreamLine::Start { adapter: AdapterDescription::default(), runs: 3 }).unwrap();
+        let start =
+            serde_json::to_string(&StreamLine::Start { adapter: AdapterDescription::default(), runs: 3 }).unwrap();
         std::fs::write(&path, format!("{start}\n{{\"finished\"")).unwrap();
         let (lines, offset) = read_new_lines(&path, 0).unwrap();
         assert!(matches!(lines.as_slice(), [StreamLine::Start { runs: 3, .. }]));

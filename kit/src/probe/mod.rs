@@ -4,6 +4,7 @@
 pub mod alpha_to_coverage;
 pub mod hash_values;
 pub mod mip_fetch;
+pub mod multisample_render;
 pub mod occlusion;
 pub mod sample_mask;
 pub mod sample_positions;

@@ -1,0 +1,23 @@
+//! `fault.hang`: the case never returns, as a driver wait that never ends would. (A shader
+//! cannot stand in for it here: llvmpipe bounds every shader loop, and an endless loop — nested
+//! three deep — came back in 36 ms.) The supervising `check` kills the process after `--timeout`
+//! seconds without a record and records the case as `timeout`.
+
+use anyhow::Result;
+use fragkit::harness::{Case, Ctx, Outcome};
+
+pub const CASE: Case = Case {
+    name: "fault.hang",
+    summary: "the case never returns (times out on purpose)",
+    requires: wgpu::Features::empty(),
+    params: &[],
+    sweep: &[],
+    run,
+};
+
+fn run(_ctx: &mut Ctx) -> Result<Outcome> {
+    eprintln!("fault.hang: waiting for ever on purpose");
+    loop {
+        std::thread::sleep(std::time::Duration::from_secs(3600));
+    }
+}

@@ -1,0 +1,37 @@
+//! `fault.abort` and `fault.segfault`: the process running the case dies mid-case, as a driver
+//! that aborts on heap corruption or dereferences a wild pointer kills it. The supervising
+//! `check` records the case as `crash` with the signal, starts a new child and goes on.
+
+use anyhow::Result;
+use fragkit::harness::{Case, Ctx, Outcome};
+
+pub const ABORT: Case = Case {
+    name: "fault.abort",
+    summary: "the process running the case aborts (SIGABRT) mid-case (crashes on purpose)",
+    requires: wgpu::Features::empty(),
+    params: &[],
+    sweep: &[],
+    run: abort,
+};
+
+pub const SEGFAULT: Case = Case {
+    name: "fault.segfault",
+    summary: "the process running the case writes through a null pointer (SIGSEGV) (crashes on purpose)",
+    requires: wgpu::Features::empty(),
+    params: &[],
+    sweep: &[],
+    run: segfault,
+};
+
+fn abort(_ctx: &mut Ctx) -> Result<Outcome> {
+    eprintln!("fault.abort: aborting on purpose");
+    std::process::abort()
+}
+
+fn segfault(_ctx: &mut Ctx) -> Result<Outcome> {
+    eprintln!("fault.segfault: writing through a null pointer on purpose");
+    let null = std::hint::black_box(std::ptr::null_mut::<u64>());
+    // SAFETY: not safe at all, on purpose: the fault this case injects is this write.
+    unsafe { null.write_volatile(1) };
+    Ok(Outcome::Pass)
+}
