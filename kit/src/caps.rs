@@ -131,7 +131,6 @@ impl Caps {
             })
             .collect();
         let limits = gpu.device.limits();
-        let downlevel = gpu.adapter.get_downlevel_capabilities();
         Ok(Self {
             adapter: gpu.description.clone(),
             max_texture_dimension_2d: limits.max_texture_dimension_2d,
@@ -146,8 +145,8 @@ impl Caps {
             timestamps: gpu.has(wgpu::Features::TIMESTAMP_QUERY),
             timestamp_period_ns: gpu.queue.get_timestamp_period(),
             early_depth_test_feature: gpu.has(wgpu::Features::SHADER_EARLY_DEPTH_TEST),
-            fragment_storage_writes: downlevel.flags.contains(wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE)
-                && limits.max_storage_buffers_per_shader_stage > 0,
+            // A render that writes storage, not the flag (softpipe's GL 3.3 claims it, naga refuses).
+            fragment_storage_writes: crate::probe::fragment_storage::fragment_storage_problem(gpu)?.is_none(),
         })
     }
 

@@ -43,6 +43,7 @@ shader_files! {
     ALPHA_RAMP => "kit/alpha_ramp.wgsl",
     HEAVY_SHADING => "kit/heavy_shading.wgsl",
     FRAGMENT_COUNTER => "kit/fragment_counter.wgsl",
+    FRAGMENT_STORAGE => "kit/fragment_storage.wgsl",
     NOISE_TRIANGLES => "kit/noise_triangles.wgsl",
     MIP_FETCH => "kit/mip_fetch.wgsl",
     HASH_VALUES => "kit/hash_values.wgsl",

@@ -45,7 +45,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let gpu = ctx.gpu;
     let precision = measure_occlusion_precision(gpu)?;
     let can_count = gpu.has(wgpu::Features::SHADER_EARLY_DEPTH_TEST)
-        && gpu.adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE);
+        && fragkit::probe::fragment_storage::fragment_storage_problem(gpu)?.is_none();
     ctx.metric("timer", if gpu.has(wgpu::Features::TIMESTAMP_QUERY) { "gpu timestamps" } else { "wall clock" });
 
     // Render: one untimed round pays for shader compilation, then timed repeats of both gates.

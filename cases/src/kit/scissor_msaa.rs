@@ -36,7 +36,11 @@ struct Scissor {
     h: u32,
 }
 
-/// Renders white under the scissor into a cleared MSAA target and resolves it.
+/// Colour the resolve target holds before the pass, so that a pixel the resolve never wrote shows.
+const UNRESOLVED: [u8; 4] = [255, 0, 255, 255];
+
+/// Renders white under the scissor into a cleared MSAA target and resolves it (into a target
+/// filled with `UNRESOLVED` first).
 fn scissored_fill(ctx: &mut Ctx, size: (u32, u32), samples: u32, s: &Scissor) -> Result<image::RgbaImage> {
     let gpu = ctx.gpu;
     let format = wgpu::TextureFormat::Rgba8Unorm;
@@ -58,6 +62,14 @@ fn scissored_fill(ctx: &mut Ctx, size: (u32, u32), samples: u32, s: &Scissor) ->
     .create(gpu);
     let full = RectBatch::new(gpu, size, &[(Rect::full(size.0, size.1), [1.0; 4])]);
     let mut encoder = gpu.encoder("scissored fill");
+    if samples > 1 {
+        let unresolved = wgpu::Color { r: 1.0, g: 0.0, b: 1.0, a: 1.0 };
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("resolve target filled"),
+            color_attachments: &[attachments::colour(&resolved_view, None, unresolved)],
+            ..Default::default()
+        });
+    }
     {
         let (view, resolve) = if samples > 1 { (&msaa_view, Some(&resolved_view)) } else { (&resolved_view, None) };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -151,10 +163,10 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         if difference.differing_pixels > 0 {
             ctx.evidence_image(&format!("{samples}x"), &side_by_side(&result, &expected, &mask))?;
             // Which way they differ says where: samples drawn outside the rect (the rasteriser),
-            // or pixels the resolve never wrote (still the new texture's zeros: the resolve).
-            let unresolved = result.pixels().filter(|p| p.0 == [0; 4]).count() as u64;
+            // or pixels the resolve never wrote (the resolve).
+            let unresolved = result.pixels().filter(|p| p.0 == UNRESOLVED).count() as u64;
             problems.push(if unresolved == difference.differing_pixels {
-                format!("{samples}x: {unresolved} pixels outside the scissor rect never resolved (still the texture's zeros)")
+                format!("{samples}x: {unresolved} pixels outside the scissor rect never resolved (they kept what the target held)")
             } else {
                 format!("{samples}x: {} pixels differ from the scissor rect", difference.differing_pixels)
             });

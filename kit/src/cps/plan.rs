@@ -109,11 +109,11 @@ impl Plan {
             level_extents,
             level_bounds,
             padded,
+            // Fragment storage as a render showed it, not as the flag claims (softpipe's GL 3.3).
             skip_absent_levels_on_gpu: stencil_pyramid
                 && !levels_from_foveation
-                && gpu.adapter.get_downlevel_capabilities().flags.contains(
-                    wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE | wgpu::DownlevelFlags::INDIRECT_EXECUTION,
-                ),
+                && gpu.adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::INDIRECT_EXECUTION)
+                && crate::probe::fragment_storage::fragment_storage_problem(gpu)?.is_none(),
             stencil_pyramid,
             levels_from_foveation,
             edge_pyramid: matches!(config.policy, LodPolicy::Content { .. }),

@@ -16,8 +16,8 @@ pub const BUILT_IN: &str = include_str!("../../../cases/expectations.toml");
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct KnownIssue {
-    /// Case name glob.
-    pub case: String,
+    /// Case name glob, or a list of them (one cause behind several cases).
+    pub case: CaseGlobs,
     /// Globs over the adapter's description; an absent field matches anything.
     pub backend: Option<String>,
     pub adapter: Option<String>,
@@ -32,6 +32,23 @@ pub struct KnownIssue {
     /// this, a pass away from the defaults (a sweep, `--set`) is a plain pass; at the defaults a
     /// pass still means the entry is stale.
     pub may_pass: Option<String>,
+}
+
+/// One case glob or several.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+pub enum CaseGlobs {
+    One(String),
+    Many(Vec<String>),
+}
+
+impl CaseGlobs {
+    pub fn globs(&self) -> &[String] {
+        match self {
+            Self::One(glob) => std::slice::from_ref(glob),
+            Self::Many(globs) => globs,
+        }
+    }
 }
 
 #[derive(Clone, Debug, Default, Deserialize)]
@@ -53,14 +70,13 @@ impl Expectations {
         // Reject bad globs now rather than at the first match.
         for issue in &parsed.known_issues {
             let patterns = [
-                Some(&issue.case),
                 issue.backend.as_ref(),
                 issue.adapter.as_ref(),
                 issue.driver.as_ref(),
                 issue.driver_info.as_ref(),
                 issue.failure.as_ref(),
             ];
-            for pattern in patterns.into_iter().flatten() {
+            for pattern in issue.case.globs().iter().chain(patterns.into_iter().flatten()) {
                 Pattern::new(pattern).with_context(|| {
                     format!("expectations file {origin}: bad pattern {pattern:?} in the entry for {:?}", issue.case)
                 })?;
@@ -108,7 +124,7 @@ impl KnownIssue {
 
     fn matches(&self, case: &str, adapter: &AdapterDescription) -> bool {
         let field = |pattern: &Option<String>, text: &str| pattern.as_deref().is_none_or(|p| glob_matches(p, text));
-        glob_matches(&self.case, case)
+        self.case.globs().iter().any(|glob| glob_matches(glob, case))
             && field(&self.backend, &adapter.backend)
             && field(&self.adapter, &adapter.name)
             && field(&self.driver, &adapter.driver)
@@ -171,6 +187,18 @@ mod tests {
                 .explain("kit.scissor.msaa", &adapter, "1x: 1000 pixels differ; 4x: 31 pixels differ")
                 .is_none()
         );
+    }
+
+    #[test]
+    fn a_list_of_case_globs_matches_any_of_them() {
+        let list = "[[known_issue]]\ncase = [\"kit.occlusion.exact\", \"oit.a2c.*\"]\nreason = \"one cause\"\n";
+        let expectations = Expectations::parse(list, "test").unwrap();
+        for case in ["kit.occlusion.exact", "oit.a2c.transfer"] {
+            assert_eq!(expectations.find(case, &lavapipe()).len(), 1, "{case}");
+        }
+        assert!(expectations.find("oit.extremes", &lavapipe()).is_empty());
+        let bad = Expectations::parse("[[known_issue]]\ncase = [\"ok\", \"[x\"]\nreason = \"y\"\n", "test");
+        assert!(bad.is_err());
     }
 
     #[test]

@@ -2,6 +2,7 @@
 //! known driver issues, the runner that isolates each case, the run loop that feeds every record
 //! to its sinks, and the JSON and JUnit reports.
 
+pub mod capability;
 pub mod case;
 pub mod compare;
 pub mod database;

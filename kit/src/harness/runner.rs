@@ -125,7 +125,13 @@ pub fn run_case(
         let guarded = catch_unwind(AssertUnwindSafe(|| gpu.scoped(case.name, || (case.run)(&mut ctx))));
         match guarded {
             Ok(Ok(outcome)) => outcome,
-            Ok(Err(error)) => Outcome::Fail(format!("{error:#}")),
+            Ok(Err(error)) => {
+                let text = format!("{error:#}");
+                match super::capability::missing_capability(&text) {
+                    Some(capability) => Outcome::NotSupported(capability),
+                    None => Outcome::Fail(text),
+                }
+            }
             Err(payload) => Outcome::Fail(format!("panicked: {}", panic_message(payload))),
         }
     };

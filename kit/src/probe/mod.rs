@@ -2,6 +2,7 @@
 //! the `kit.*` cases compare them with what the standards say.
 
 pub mod alpha_to_coverage;
+pub mod fragment_storage;
 pub mod hash_values;
 pub mod mip_fetch;
 pub mod multisample_render;

@@ -433,8 +433,7 @@ pub fn measure(gpu: &Gpu, samples: u32) -> Result<PositionsMeasurement> {
     use crate::probe::sample_mask::measure_sample_mask;
     let sample_mask_honoured = samples == 1 || measure_sample_mask(gpu, samples)?.iter().all(|m| m.honoured());
     let exact_occlusion = measure_occlusion_precision(gpu)? == OcclusionPrecision::Exact;
-    let fragment_storage =
-        gpu.adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE);
+    let fragment_storage = crate::probe::fragment_storage::fragment_storage_problem(gpu)?.is_none();
     let mut routes = Vec::new();
     let mut skipped = Vec::new();
     let text = |r: Result<Vec<SamplePosition>>| r.map_err(|e| format!("{e:#}"));
