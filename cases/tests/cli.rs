@@ -179,6 +179,74 @@ fn a_crashing_or_hanging_case_costs_that_case_and_the_run_goes_on_in_a_new_proce
 }
 
 #[test]
+fn the_matrix_runs_each_configuration_in_its_own_process_and_reports_the_absent_ones() {
+    let dir = std::env::temp_dir().join(format!("fragkit-matrix-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let matrix = dir.join("adapters.toml");
+    // The default Vulkan adapter twice over, the second with an environment its process must
+    // see (a lavapipe setting that changes the adapter's name), and one configuration absent here.
+    std::fs::write(
+        &matrix,
+        r#"
+[[configuration]]
+name = "default"
+about = "the default Vulkan adapter"
+backend = "vulkan"
+adapter = ""
+installs = "apt-get install mesa-vulkan-drivers"
+
+[[configuration]]
+name = "narrow"
+about = "lavapipe with 4-lane vectors"
+backend = "vulkan"
+adapter = ""
+env = { LP_NATIVE_VECTOR_WIDTH = "128" }
+installs = "apt-get install mesa-vulkan-drivers"
+
+[[configuration]]
+name = "nowhere"
+about = "needs a file no machine has"
+backend = "gl"
+adapter = "nowhere"
+requires = ["/nonexistent/fragkit-test-icd.json"]
+installs = "nothing installs it"
+"#,
+    )
+    .unwrap();
+    let reports = dir.join("reports");
+    let (code, text) = fragkit(&[
+        "check",
+        "kit.hash.values",
+        "--matrix",
+        "all",
+        "--adapters-file",
+        matrix.to_str().unwrap(),
+        "--reports",
+        reports.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("nowhere") && text.contains("absent: missing /nonexistent/fragkit-test-icd.json"), "{text}");
+    let report = |name: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(reports.join(format!("{name}.json"))).unwrap()).unwrap()
+    };
+    let (default, narrow) = (report("default"), report("narrow"));
+    assert_eq!(default["cases"][0]["outcome"], "pass", "{default}");
+    assert!(reports.join("narrow.junit.xml").exists() && reports.join("narrow.log").exists());
+    if default["adapter"]["name"].as_str().unwrap().starts_with("llvmpipe") {
+        assert!(narrow["adapter"]["name"].as_str().unwrap().contains("128 bits"), "{narrow}");
+    }
+    assert!(!reports.join("nowhere.json").exists());
+
+    let (code, text) = fragkit(&["check", "--matrix", "default,typo", "--adapters-file", matrix.to_str().unwrap()]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("no configuration \"typo\"") && text.contains("known: default, narrow, nowhere"), "{text}");
+    let (code, text) = fragkit(&["--backend", "gl", "check", "--matrix", "all"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("drop --backend"), "{text}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
 fn shards_run_every_case_once_and_merge_into_one_report_with_junit() {
     let dir = std::env::temp_dir().join(format!("fragkit-shards-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

@@ -89,13 +89,17 @@ fn write_doc(doc: &Path, args: &MatrixArgs) -> Result<ExitCode> {
             .and_then(|c| c.metrics.get("bits"))
             .map_or("not measured".to_owned(), |b| format!("{b} bits"));
         generated.push_str(&format!(
-            "### {} — {}\n\n{}. Environment: {environment}. Driver: {} {}. Sub-pixel precision (measured): {bits}.\n\n\
+            "### {} — {}\n\n{}. Environment: {environment}. Driver: {}. Sub-pixel precision (measured): {bits}.\n\n\
              {} cases: {} pass, {} known_issue, {} not_supported, **{} unexpected failures**.\n\n",
             configuration.name,
             report.adapter.name,
             configuration.about,
-            report.adapter.driver,
-            report.adapter.driver_info.trim(),
+            [report.adapter.driver.trim(), report.adapter.driver_info.trim()]
+                .iter()
+                .filter(|part| !part.is_empty())
+                .copied()
+                .collect::<Vec<_>>()
+                .join(" "),
             report.cases.len(),
             count(ReportedOutcome::Pass),
             count(ReportedOutcome::KnownIssue),

@@ -11,7 +11,7 @@ use fragkit::gpu::{AdapterSelector, Gpu};
 use fragkit::harness::database::{Database, RunInfo};
 use fragkit::harness::report::Report;
 
-use super::matrix::{MatrixArgs, Show, arguments_without, check_selection_is_free, run_children};
+use super::matrix::{MatrixArgs, run_each_showing_output};
 
 #[derive(clap::Args)]
 pub struct BenchArgs {
@@ -37,7 +37,7 @@ pub struct BenchArgs {
 
 pub fn bench(selector: &AdapterSelector, args: BenchArgs) -> Result<()> {
     if let Some(names) = &args.matrix.matrix {
-        return bench_matrix(selector, &args, names);
+        return run_each_showing_output(selector, &args.matrix, names, "bench");
     }
     let techniques: Vec<&str> = if args.techniques.is_empty() {
         TECHNIQUES.to_vec()
@@ -71,33 +71,5 @@ pub fn bench(selector: &AdapterSelector, args: BenchArgs) -> Result<()> {
         let id = database.record(&report, &RunInfo::now(args.tag.clone()))?;
         println!("recorded as run {id} in {}", database.location());
     }
-    Ok(())
-}
-
-/// `bench --matrix`: each configuration timed in its own process, one after another (never two
-/// at once: they would share the CPU), its figures shown in turn and, with --db, recorded as its
-/// own run.
-fn bench_matrix(selector: &AdapterSelector, args: &BenchArgs, names: &str) -> Result<()> {
-    check_selection_is_free(&selector.backend, &selector.adapter_name)?;
-    let matrix = args.matrix.load()?;
-    let reports = &args.matrix.reports;
-    let inherited =
-        arguments_without(&["--matrix", "--adapters-file", "--reports", "--json", "--backend", "--adapter"]);
-    let runs = run_children(&matrix, names, reports, Show::Logs, |configuration| {
-        let mut arguments = inherited.clone();
-        arguments.extend(["--json".into(), reports.join(format!("{}.bench.json", configuration.file_stem())).into()]);
-        arguments
-    })?;
-    let failed: Vec<&str> = runs
-        .iter()
-        .filter(|run| run.status.is_some_and(|status| !status.success()))
-        .map(|run| run.configuration.name.as_str())
-        .collect();
-    anyhow::ensure!(
-        failed.is_empty(),
-        "bench failed on {}; their logs are in {}",
-        failed.join(", "),
-        reports.display()
-    );
     Ok(())
 }

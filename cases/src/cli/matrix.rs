@@ -156,6 +156,40 @@ pub fn run_children<'a>(
     Ok(runs)
 }
 
+/// `caps`/`bench --matrix`: each configuration in its own process, one after another (never two
+/// at once: timings would share the CPU), its output shown in turn, its JSON written to
+/// `<reports>/<name>.<command>.json` (and, with --db, its own database run).
+pub fn run_each_showing_output(
+    selector: &fragkit::gpu::AdapterSelector,
+    args: &MatrixArgs,
+    names: &str,
+    command: &str,
+) -> Result<()> {
+    check_selection_is_free(&selector.backend, &selector.adapter_name)?;
+    let matrix = args.load()?;
+    let reports = &args.reports;
+    let inherited =
+        arguments_without(&["--matrix", "--adapters-file", "--reports", "--json", "--backend", "--adapter"]);
+    let runs = run_children(&matrix, names, reports, Show::Logs, |configuration| {
+        let mut arguments = inherited.clone();
+        let json = reports.join(format!("{}.{command}.json", configuration.file_stem()));
+        arguments.extend(["--json".into(), json.into()]);
+        arguments
+    })?;
+    let failed: Vec<&str> = runs
+        .iter()
+        .filter(|run| run.status.is_some_and(|status| !status.success()))
+        .map(|run| run.configuration.name.as_str())
+        .collect();
+    anyhow::ensure!(
+        failed.is_empty(),
+        "{command} failed on {}; their logs are in {}",
+        failed.join(", "),
+        reports.display()
+    );
+    Ok(())
+}
+
 /// The last `lines` lines of a log, for a child that ended without its report.
 pub fn log_tail(path: &Path, lines: usize) -> String {
     let text = std::fs::read_to_string(path).unwrap_or_default();
