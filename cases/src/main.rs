@@ -63,7 +63,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::Render { technique } => technique.run(&selector)?,
         Command::Report { technique } => technique.run(&selector)?,
         Command::Bench(args) => cli::bench::bench(&selector, args)?,
-        Command::Check(args) => return cli::check::check(&selector, args, cli.verbose),
+        Command::Check(args) => return cli::check::check(&selector, *args, cli.verbose),
         Command::Merge(args) => return cli::merge::merge(args),
         Command::Compare(args) => return cli::compare::compare_reports(args),
         Command::Html(args) => cli::html::html(args)?,

@@ -58,7 +58,7 @@ pub enum Command {
     /// record them with --db.
     Bench(bench::BenchArgs),
     /// Run cases (glob patterns; all when none) and exit 1 on any unexpected failure.
-    Check(check::CheckArgs),
+    Check(Box<check::CheckArgs>),
     /// Plot a case's metric over the runs of a results database, one line per adapter.
     History(history::HistoryArgs),
     /// Write a browsable HTML report (matrix, case pages with evidence, comparison, plots) of JSON
