@@ -35,15 +35,18 @@ sample_positions_case!(CASE_2X, 2, "kit.msaa.sample_positions.2x");
 sample_positions_case!(CASE_4X, 4, "kit.msaa.sample_positions.4x");
 sample_positions_case!(CASE_8X, 8, "kit.msaa.sample_positions.8x");
 
-/// Names what `@builtin(position)` gave for one sample: its location (as far as the snapped sweep
-/// locates it), the pixel centre, or else.
-fn position_builtin_meaning(reported: [f32; 2], sample: &SamplePosition) -> String {
-    let at_sample = match (sample.x, sample.y) {
-        (Some(x), Some(y)) => x.within(COARSEST_SNAP, reported[0]) && y.within(COARSEST_SNAP, reported[1]),
-        _ => false,
-    };
+/// Names what `@builtin(position)` gave for one sample: its location, the pixel centre, or else.
+/// The builtin is not snapped, so where the sweep found the standard table it must give the
+/// standard position itself (within the sweep's 1/256 px); elsewhere, the sample as far as the
+/// snapped sweep locates it.
+fn position_builtin_meaning(reported: [f32; 2], sample: &SamplePosition, standard: Option<[f32; 2]>) -> String {
     let step = 1.0 / STEPS as f32;
     let near = |a: [f32; 2], b: [f32; 2]| (a[0] - b[0]).abs() <= step && (a[1] - b[1]).abs() <= step;
+    let at_sample = match (standard, sample.x, sample.y) {
+        (Some(position), _, _) => near(reported, position),
+        (None, Some(x), Some(y)) => x.within(COARSEST_SNAP, reported[0]) && y.within(COARSEST_SNAP, reported[1]),
+        _ => false,
+    };
     match () {
         _ if at_sample => "sample".into(),
         _ if near(reported, [0.5, 0.5]) => "centre".into(),
@@ -121,8 +124,14 @@ fn sample_positions(ctx: &mut Ctx, samples: u32) -> Result<Outcome> {
     ctx.metric("invocations", shading.invocations);
     ctx.metric("sample_index", &shading.sample_index);
     if shading.sample_index == expected_indices {
-        let meanings: Vec<String> =
-            shading.position.iter().zip(&positions).map(|(&p, s)| position_builtin_meaning(p, s)).collect();
+        let standard_found = matches_standard(samples, &positions);
+        let meanings: Vec<String> = shading
+            .position
+            .iter()
+            .zip(&positions)
+            .zip(standard)
+            .map(|((&p, s), &table)| position_builtin_meaning(p, s, standard_found.then_some(table)))
+            .collect();
         ctx.metric("position_builtin", &meanings);
         // The sample's own position (Vulkan, Metal) or the pixel centre (D3D) are both fine; any
         // other point is not where this fragment was shaded.
