@@ -46,23 +46,9 @@ impl ChildRun<'_> {
     pub fn ending(&self) -> String {
         match (&self.status, &self.absent_because) {
             (_, Some(why)) => format!("absent: {why}"),
-            (Some(status), None) => describe_status(status),
+            (Some(status), None) => super::supervise::ending(status),
             (None, None) => "not run".into(),
         }
-    }
-}
-
-fn describe_status(status: &ExitStatus) -> String {
-    #[cfg(unix)]
-    {
-        use std::os::unix::process::ExitStatusExt;
-        if let Some(signal) = status.signal() {
-            return format!("killed by signal {signal}{}", if status.core_dumped() { " (core dumped)" } else { "" });
-        }
-    }
-    match status.code() {
-        Some(code) => format!("exit {code}"),
-        None => "ended without a code".into(),
     }
 }
 
@@ -149,7 +135,12 @@ pub fn run_children<'a>(
         let status =
             command.status().with_context(|| format!("starting {} for {}", program.display(), configuration.name))?;
         if show == Show::Logs {
-            println!("== {} ({})\n{}", configuration.name, describe_status(&status), log_tail(&log, usize::MAX));
+            println!(
+                "== {} ({})\n{}",
+                configuration.name,
+                super::supervise::ending(&status),
+                log_tail(&log, usize::MAX)
+            );
         }
         runs.push(ChildRun { configuration, status: Some(status), absent_because: None, log });
     }

@@ -63,15 +63,19 @@ fn signal_name(signal: i32) -> &'static str {
     }
 }
 
-fn describe(status: &ExitStatus) -> String {
+/// How a process ended, in words: the signal that killed it, or its exit code.
+pub fn ending(status: &ExitStatus) -> String {
     #[cfg(unix)]
     {
         use std::os::unix::process::ExitStatusExt;
         if let Some(signal) = status.signal() {
-            return format!("was killed by signal {signal} ({})", signal_name(signal));
+            return format!("killed by signal {signal} ({})", signal_name(signal));
         }
     }
-    format!("exited with {status} before recording it")
+    match status.code() {
+        Some(code) => format!("exit {code}"),
+        None => "ended without a code".into(),
+    }
 }
 
 /// Runs `runs` in children of this program started with `arguments`, handing every record to
@@ -212,7 +216,12 @@ fn death_record(
 ) -> CaseRecord {
     let (outcome, what) = match death {
         Death::Status(status) => {
-            (ReportedOutcome::Crash, format!("crash: the process running the case {}", describe(status)))
+            let how = if status.code().is_some() {
+                format!("ended ({}) before recording it", ending(status))
+            } else {
+                format!("was {}", ending(status))
+            };
+            (ReportedOutcome::Crash, format!("crash: the process running the case {how}"))
         }
         Death::TimedOut => (
             ReportedOutcome::Timeout,
