@@ -484,6 +484,12 @@ fn a_parameter_dependent_known_issue_may_pass_away_from_the_defaults_only() {
     assert!(text.contains(" pass ") && text.contains("the listed known issues cannot"), "{text}");
     let (code, text) = fragkit(&["check", "kit.determinism", "--expectations", expectations]);
     assert_eq!(code, 1, "at the defaults a pass still means the entry is stale: {text}");
+    // An intermittent issue (a crash some machines never show) may pass anywhere, saying why.
+    let entry = "[[known_issue]]\ncase = \"kit.determinism\"\nfailure = \"crash: *\"\nreason = \"heap corruption\"\nintermittent = \"needs AVX2\"\n";
+    std::fs::write(&path, entry).unwrap();
+    let (code, text) = fragkit(&["check", "kit.determinism", "--expectations", expectations, "-v"]);
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("do not show on every run: needs AVX2"), "{text}");
     std::fs::remove_file(&path).ok();
 }
 

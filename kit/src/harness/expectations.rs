@@ -32,6 +32,9 @@ pub struct KnownIssue {
     /// this, a pass away from the defaults (a sweep, `--set`) is a plain pass; at the defaults a
     /// pass still means the entry is stale.
     pub may_pass: Option<String>,
+    /// Where the issue shows only on some runs or machines (a heap corruption that needs a CPU's
+    /// newer instruction sets to crash): why. With this, a pass is a plain pass anywhere.
+    pub intermittent: Option<String>,
 }
 
 /// One case glob or several.
