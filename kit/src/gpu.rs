@@ -65,6 +65,9 @@ pub struct Gpu {
     clock: Option<Mutex<EncoderClock>>,
     /// Why the device was lost, once it is (set by wgpu's device-lost callback).
     lost: std::sync::Arc<Mutex<Option<String>>>,
+    /// What `probe::fragment_storage` found on this device, once it has run: the plan of every
+    /// CPS renderer and every sample-position sweep asks, and one render answers for the device.
+    pub(crate) fragment_storage: std::sync::OnceLock<Option<String>>,
 }
 
 /// A command encoder whose GPU time counts towards the running case.
@@ -103,7 +106,7 @@ pub fn parse_backend(name: &str) -> Result<wgpu::Backends> {
 /// The kit's instance. wgpu's indirect-call validation is off: it builds a compute pipeline,
 /// which a compute-free adapter (softpipe's GL 3.3) does not have, so with it no device opens.
 /// The kit's only indirect draws are the CPS levels' full-screen triangles, which bind no vertex
-/// buffer, and whose arguments `cps::renderer::check_level_draws` holds to their definition.
+/// buffer, and whose arguments `cps.level_lighting` reads back and holds to their definition.
 fn instance(backends: wgpu::Backends) -> wgpu::Instance {
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
     desc.backends = backends;
@@ -198,7 +201,15 @@ impl Gpu {
             .features()
             .contains(wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
             .then(|| Mutex::new(EncoderClock::new(&device, &queue)));
-        Ok(Self { description: AdapterDescription::of(&info), adapter, device, queue, clock, lost })
+        Ok(Self {
+            description: AdapterDescription::of(&info),
+            adapter,
+            device,
+            queue,
+            clock,
+            lost,
+            fragment_storage: std::sync::OnceLock::new(),
+        })
     }
 
     /// Why the device was lost, or None while it works. Polls first, so that a loss the driver

@@ -11,7 +11,7 @@ use fragkit::gpu::{AdapterDescription, AdapterSelector, Gpu, all_adapters, selec
 use fragkit::harness::report::{Report, ReportedOutcome};
 use serde::{Deserialize, Serialize};
 
-use super::matrix::{MatrixArgs, Show, print_table, run_children};
+use super::matrix::{ChildEnd, MatrixArgs, Show, print_table, run_children};
 
 #[derive(clap::Args)]
 pub struct AdaptersArgs {
@@ -135,9 +135,9 @@ fn resolve_matrix(args: &MatrixArgs) -> Result<ExitCode> {
     for run in &runs {
         let c = run.configuration;
         let environment: Vec<String> = c.env.iter().map(|(k, v)| format!("{k}={v}")).collect();
-        let (resolved, info) = match &run.absent_because {
-            Some(why) => (format!("absent: {why}"), String::new()),
-            None => {
+        let (resolved, info) = match &run.end {
+            ChildEnd::Absent(why) => (format!("absent: {why}"), String::new()),
+            ChildEnd::Exited(_) => {
                 let log =
                     std::fs::read_to_string(&run.log).with_context(|| format!("reading {}", run.log.display()))?;
                 match log.lines().rev().find_map(|line| serde_json::from_str::<Resolved>(line).ok()) {

@@ -20,7 +20,7 @@ use fragkit::harness::runner::{check_overrides, check_sizes, select};
 use fragkit::harness::stream::StreamSink;
 
 use super::matrix::{
-    MatrixArgs, Show, arguments_without, check_selection_is_free, log_tail, print_table, run_children,
+    ChildEnd, MatrixArgs, Show, arguments_without, check_selection_is_free, log_tail, print_table, run_children,
 };
 use super::supervise::supervise;
 use super::table::TableSink;
@@ -242,7 +242,7 @@ fn check_matrix(selector: &AdapterSelector, args: &CheckArgs, names: &str) -> Re
     let mut failed = false;
     for run in &runs {
         let name = run.configuration.name.clone();
-        if run.absent_because.is_some() {
+        if matches!(run.end, ChildEnd::Absent(_)) {
             table.push([name, "-".into(), "-".into(), "-".into(), "-".into(), "-".into(), run.ending()]);
             continue;
         }

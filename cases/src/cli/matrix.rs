@@ -32,23 +32,32 @@ impl MatrixArgs {
     }
 }
 
+/// What became of a configuration's child.
+pub enum ChildEnd {
+    /// The configuration is absent from this machine (why); no child ran.
+    Absent(String),
+    Exited(ExitStatus),
+}
+
 /// What a configuration's child left behind.
 pub struct ChildRun<'a> {
     pub configuration: &'a Configuration,
-    /// None when the configuration is absent from this machine.
-    pub status: Option<ExitStatus>,
-    pub absent_because: Option<String>,
+    pub end: ChildEnd,
     pub log: PathBuf,
 }
 
 impl ChildRun<'_> {
-    /// How the child ended, in words: its exit code, or the signal that killed it.
+    /// How the child ended, in words: its exit code, the signal that killed it, or why none ran.
     pub fn ending(&self) -> String {
-        match (&self.status, &self.absent_because) {
-            (_, Some(why)) => format!("absent: {why}"),
-            (Some(status), None) => super::supervise::ending(status),
-            (None, None) => "not run".into(),
+        match &self.end {
+            ChildEnd::Absent(why) => format!("absent: {why}"),
+            ChildEnd::Exited(status) => super::supervise::ending(status),
         }
+    }
+
+    /// True when a child ran and did not exit 0.
+    pub fn failed(&self) -> bool {
+        matches!(&self.end, ChildEnd::Exited(status) if !status.success())
     }
 }
 
@@ -109,7 +118,7 @@ pub fn run_children<'a>(
             if show != Show::Nothing {
                 println!("{}: absent ({why})", configuration.name);
             }
-            runs.push(ChildRun { configuration, status: None, absent_because: Some(why), log });
+            runs.push(ChildRun { configuration, end: ChildEnd::Absent(why), log });
             continue;
         }
         let log_file = std::fs::File::create(&log).with_context(|| format!("creating {}", log.display()))?;
@@ -142,7 +151,7 @@ pub fn run_children<'a>(
                 log_tail(&log, usize::MAX)
             );
         }
-        runs.push(ChildRun { configuration, status: Some(status), absent_because: None, log });
+        runs.push(ChildRun { configuration, end: ChildEnd::Exited(status), log });
     }
     Ok(runs)
 }
@@ -167,11 +176,7 @@ pub fn run_each_showing_output(
         arguments.extend(["--json".into(), json.into()]);
         arguments
     })?;
-    let failed: Vec<&str> = runs
-        .iter()
-        .filter(|run| run.status.is_some_and(|status| !status.success()))
-        .map(|run| run.configuration.name.as_str())
-        .collect();
+    let failed: Vec<&str> = runs.iter().filter(|run| run.failed()).map(|run| run.configuration.name.as_str()).collect();
     anyhow::ensure!(
         failed.is_empty(),
         "{command} failed on {}; their logs are in {}",

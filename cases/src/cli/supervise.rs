@@ -96,7 +96,8 @@ pub fn supervise(
     while done < runs.len() || report.is_none() {
         let mut child = start_child(&program, arguments, &scratch, done)?;
         let mut last_progress = Instant::now();
-        let (death, finished) = loop {
+        // None: the child ran its list to the end.
+        let death = loop {
             let exited = child.try_wait().context("waiting for the case child")?;
             let (lines, next) = read_new_lines(&scratch.stream, offset)?;
             offset = next;
@@ -132,15 +133,15 @@ pub fn supervise(
             }
             if finished {
                 let _ = child.wait();
-                break (None, true);
+                break None;
             }
             if let Some(status) = exited {
-                break (Some(Death::Status(status)), false);
+                break Some(Death::Status(status));
             }
             if last_progress.elapsed() > timeout {
                 child.kill().ok();
                 let _ = child.wait();
-                break (Some(Death::TimedOut), false);
+                break Some(Death::TimedOut);
             }
             std::thread::sleep(POLL);
         };
@@ -148,9 +149,7 @@ pub fn supervise(
             // What the child logged as it went (-v), after it.
             eprint!("{}", std::fs::read_to_string(&scratch.stderr).unwrap_or_default());
         }
-        if finished {
-            break;
-        }
+        let Some(death) = death else { break };
         let stderr_tail = log_tail(&scratch.stderr, 12);
         let Some(report) = report.as_mut() else {
             // The child never opened its device: an input or setup error, in its own words.
@@ -163,7 +162,6 @@ pub fn supervise(
                 }
             );
         };
-        let death = death.expect("a child that did not finish died");
         if let Death::Status(status) = &death {
             if status.code() == Some(2) {
                 // The child's own error (a device it could not reopen): what ran is kept.

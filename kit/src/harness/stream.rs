@@ -5,7 +5,7 @@
 //! starts a new child after it.
 
 use std::fs::File;
-use std::io::Write;
+use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::Path;
 
 use anyhow::{Context, Result};
@@ -65,19 +65,23 @@ impl Sink for StreamSink {
 
 /// Reads the complete lines a stream file holds past `offset` bytes; returns them and the offset
 /// after the last complete line (a line still being written is left for the next read).
+/// Only the bytes past `offset` are read: the parent polls a growing file.
 pub fn read_new_lines(path: &Path, offset: u64) -> Result<(Vec<StreamLine>, u64)> {
-    let bytes = match std::fs::read(path) {
-        Ok(bytes) => bytes,
+    let reading = || format!("reading the record stream {}", path.display());
+    let mut file = match File::open(path) {
+        Ok(file) => file,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok((Vec::new(), offset)),
-        Err(e) => return Err(e).with_context(|| format!("reading the record stream {}", path.display())),
+        Err(e) => return Err(e).with_context(reading),
     };
-    let start = (offset as usize).min(bytes.len());
-    let complete = bytes[start..].iter().rposition(|&b| b == b'\n').map_or(start, |i| start + i + 1);
+    file.seek(SeekFrom::Start(offset)).with_context(reading)?;
+    let mut bytes = Vec::new();
+    file.read_to_end(&mut bytes).with_context(reading)?;
+    let complete = bytes.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
     let mut lines = Vec::new();
-    for line in bytes[start..complete].split(|&b| b == b'\n').filter(|l| !l.is_empty()) {
+    for line in bytes[..complete].split(|&b| b == b'\n').filter(|l| !l.is_empty()) {
         lines.push(serde_json::from_slice(line).context("a record stream line is not valid")?);
     }
-    Ok((lines, complete as u64))
+    Ok((lines, offset + complete as u64))
 }
 
 #[cfg(test)]

@@ -13,7 +13,16 @@ use crate::readback::read_buffer_words;
 use crate::shaders;
 
 /// None when a fragment shader's storage writes land; else what the probe saw, in a sentence.
+/// Measured once per device.
 pub fn fragment_storage_problem(gpu: &Gpu) -> Result<Option<String>> {
+    if let Some(known) = gpu.fragment_storage.get() {
+        return Ok(known.clone());
+    }
+    let problem = measure(gpu)?;
+    Ok(gpu.fragment_storage.get_or_init(|| problem).clone())
+}
+
+fn measure(gpu: &Gpu) -> Result<Option<String>> {
     let limits = gpu.device.limits();
     let flags = gpu.adapter.get_downlevel_capabilities().flags;
     if !flags.contains(wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE)
