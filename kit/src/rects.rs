@@ -99,6 +99,9 @@ pub enum RectFragment {
     /// `shaders/cps/stencil_mark.wgsl`'s foveated marks (the level in the instance colour's red;
     /// uniform at group 0).
     FoveatedStencilMark,
+    /// `shaders/cps/lighting.wgsl`'s level lighting under the foveated policy (uniforms and
+    /// G-buffer at groups 0 and 1).
+    CpsFoveatedLevelLighting,
 }
 
 /// The fixed-function state of a rect pipeline.
@@ -145,6 +148,7 @@ impl RectPipeline {
             RectFragment::AlphaRamp => Some((shaders::ALPHA_RAMP, "fs_alpha_ramp")),
             RectFragment::SamplePixelRecord => Some((shaders::CBR_SAMPLE_ID_RECORD, "fs_record_sample_pixel")),
             RectFragment::FoveatedStencilMark => Some((shaders::CPS_STENCIL_MARK, "fs_stencil_mark_foveated")),
+            RectFragment::CpsFoveatedLevelLighting => Some((shaders::CPS_LIGHTING, "fs_light_level_foveated")),
         };
         let fragment = fragment_file.map(|(file, entry)| (file.module(gpu), entry));
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

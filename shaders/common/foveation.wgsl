@@ -32,3 +32,35 @@ fn level_of_squared_distance(squared: f32, foveation: Foveation) -> u32 {
 fn foveated_level(pixel_centre: vec2f, foveation: Foveation) -> u32 {
     return level_of_squared_distance(squared_distance_to_focus(pixel_centre, foveation), foveation);
 }
+
+// The foveation with the screen and where each level starts in the CPS atlas: what the stencil
+// marks (cps/stencil_mark.wgsl) and the lighting (cps/lighting.wgsl) decide a texel's levels by.
+struct FoveatedBlocks {
+    foveation: Foveation,
+    screen: vec2u,
+    // Per level (xy).
+    origins: array<vec4u, 9>,
+}
+
+// How far a block's squared distances are widened (2^-20 of them), many times the GPU's error in
+// a squared distance (a few 2^-24): no pixel the LOD pass or the composite gives a level lies
+// outside the block's range.
+const MARK_WIDENING: f32 = 9.5367431640625e-7;
+
+// Whether some pixel of texel `texel`'s block (at `level`, in the level's own texels) has that
+// level. A level's pixels lie in a ring around the focus, and a pixel's octaves grow with its
+// distance: the levels of a block's pixels run from its pixel nearest the focus to its farthest,
+// and each level in between is used too, as its ring is at least 2 inner radii wide (the plan
+// takes this path for inner radii of one pixel or more), wider than the √2 between a pixel and
+// the next.
+fn foveated_block_has_level(texel: vec2u, level: u32, blocks: FoveatedBlocks) -> bool {
+    let first = texel << vec2u(level);
+    let last = min(first + vec2u((1u << level) - 1u), blocks.screen - 1u);
+    let foveation = blocks.foveation;
+    let focus = foveation.focus;
+    let nearest = clamp(floor(focus), vec2f(first), vec2f(last));
+    let farthest = select(vec2f(first), vec2f(last), vec2f(last) + 0.5 - focus > focus - (vec2f(first) + 0.5));
+    let finest = level_of_squared_distance(squared_distance_to_focus(nearest + 0.5, foveation) * (1.0 - MARK_WIDENING), foveation);
+    let coarsest = level_of_squared_distance(squared_distance_to_focus(farthest + 0.5, foveation) * (1.0 + MARK_WIDENING), foveation);
+    return level >= finest && level <= coarsest;
+}

@@ -1,6 +1,6 @@
 // The stencil pyramid in its atlas: each level's marks (one draw a level, its viewport the
-// level's rect, or under the foveated policy one instance a level) mark (op Replace) the texels
-// some pixel of whose block uses that level, and discard the others; the draws open the lighting
+// level's rect, or under the foveated policy one draw of every level's spans) mark (op Replace)
+// the texels some pixel of whose block uses that level, and discard the others; the draws open the lighting
 // pass (cps/lighting.wgsl), whose stencil-Equal draws follow them. This stands in for stencil
 // export, which wgpu (and NVIDIA's GL) lack.
 //
@@ -9,7 +9,7 @@
 // children in the even mip below (its own entry point: a branch on the level would run both sides
 // on a CPU rasteriser). Under the foveated policy they follow from the block's geometry instead
 // (fs_stencil_mark_foveated), and no pyramid is built; one pipeline serves every level, so all
-// the levels' marks are one draw, a rect instance a level: lavapipe pays about as much for a draw
+// the levels' marks are one draw over every level's spans: lavapipe pays about as much for a draw
 // as for a few hundred marked texels.
 
 struct AtlasLevel {
@@ -21,21 +21,7 @@ struct AtlasLevel {
 @group(0) @binding(0) var mask: texture_2d<u32>;
 @group(0) @binding(1) var<uniform> target_level: AtlasLevel;
 
-// The foveated policy, as the LOD pass has it, the screen, and where each level starts in the
-// atlas.
-struct FoveatedMarks {
-    foveation: Foveation,
-    screen: vec2u,
-    // Per level (xy).
-    origins: array<vec4u, 9>,
-}
-
-@group(0) @binding(2) var<uniform> marks: FoveatedMarks;
-
-// How far the marks widen a block's squared distances (2^-20 of them), many times the GPU's error
-// in a squared distance (a few 2^-24): no pixel the LOD pass or the composite gives a level lies
-// outside the block's marked range.
-const MARK_WIDENING: f32 = 9.5367431640625e-7;
+@group(0) @binding(2) var<uniform> marks: FoveatedBlocks;
 
 fn texel_of_level(position: vec4f) -> vec2u {
     return vec2u(position.xy) - vec2u(target_level.origin_x, target_level.origin_y);
@@ -70,25 +56,15 @@ fn fs_stencil_mark_odd(@builtin(position) position: vec4f) {
     mark_if(bits);
 }
 
-// A level's pixels lie in a ring around the focus, and a pixel's octaves grow with its distance:
-// the levels of a block's pixels run from its pixel nearest the focus to its farthest, and each
-// level in between is used too, as its ring is at least 2 inner radii wide (the plan takes this
-// path for inner radii of one pixel or more), wider than the √2 between a pixel and the next.
-//
-// Drawn as one rect a level (kit/src/rects.rs, shaders/kit/rect.wgsl) over the level's bounds in
-// the atlas, the level in the rect's colour (red; constant across the rect, rounded).
+// Under the foveated policy a block's levels follow from its geometry
+// (common/foveation.wgsl's foveated_block_has_level). Drawn as rects (kit/src/rects.rs,
+// shaders/kit/rect.wgsl) over every level's spans in the atlas (cps/level_spans.rs), the level in
+// the rect's colour (red; constant across the rect, rounded).
 @fragment
 fn fs_stencil_mark_foveated(@builtin(position) position: vec4f, @location(0) level_in_red: vec4f) {
     let level = u32(round(level_in_red.r));
-    let first = (vec2u(position.xy) - marks.origins[level].xy) << vec2u(level);
-    let last = min(first + vec2u((1u << level) - 1u), marks.screen - 1u);
-    let foveation = marks.foveation;
-    let focus = foveation.focus;
-    let nearest = clamp(floor(focus), vec2f(first), vec2f(last));
-    let farthest = select(vec2f(first), vec2f(last), vec2f(last) + 0.5 - focus > focus - (vec2f(first) + 0.5));
-    let finest = level_of_squared_distance(squared_distance_to_focus(nearest + 0.5, foveation) * (1.0 - MARK_WIDENING), foveation);
-    let coarsest = level_of_squared_distance(squared_distance_to_focus(farthest + 0.5, foveation) * (1.0 + MARK_WIDENING), foveation);
-    if level < finest || level > coarsest {
+    let texel = vec2u(position.xy) - marks.origins[level].xy;
+    if !foveated_block_has_level(texel, level, marks) {
         discard;
     }
 }

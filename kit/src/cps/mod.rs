@@ -6,6 +6,7 @@
 
 pub mod atlas;
 pub mod config;
+mod level_spans;
 pub mod lod_model;
 pub mod pictures;
 pub mod plan;

@@ -61,6 +61,24 @@ fn foveated_bounds(screen: (u32, u32), focus: (f32, f32), inner_radius: f32, lev
     (x0, y0, x1 - x0, y1 - y0)
 }
 
+/// Each level's `Plan::level_bounds`.
+fn bounds_of_levels(
+    screen: (u32, u32),
+    level_extents: &[(u32, u32)],
+    policy: &LodPolicy,
+    stencil_pyramid: bool,
+) -> Vec<(u32, u32, u32, u32)> {
+    let top_level = level_extents.len() as u32 - 1;
+    (0..=top_level)
+        .map(|level| match policy {
+            LodPolicy::Foveated { focus, inner_radius } if stencil_pyramid && level < top_level => {
+                foveated_bounds(screen, *focus, *inner_radius, level)
+            }
+            _ => (0, 0, level_extents[level as usize].0, level_extents[level as usize].1),
+        })
+        .collect()
+}
+
 /// Levels needed until one fragment covers a screen side of `extent` pixels.
 fn levels_to_cover(extent: u32) -> u32 {
     extent.max(1).next_power_of_two().trailing_zeros()
@@ -95,14 +113,7 @@ impl Plan {
         let stencil_pyramid = !config.shade_every_texel;
         let levels_from_foveation =
             matches!(config.policy, LodPolicy::Foveated { inner_radius, .. } if inner_radius >= 1.0);
-        let level_bounds = (0..=top_level)
-            .map(|level| match &config.policy {
-                LodPolicy::Foveated { focus, inner_radius } if stencil_pyramid && level < top_level => {
-                    foveated_bounds(screen, *focus, *inner_radius, level)
-                }
-                _ => (0, 0, level_extents[level as usize].0, level_extents[level as usize].1),
-            })
-            .collect();
+        let level_bounds = bounds_of_levels(screen, &level_extents, &config.policy, stencil_pyramid);
         Ok(Self {
             screen,
             top_level,
@@ -121,8 +132,35 @@ impl Plan {
         })
     }
 
+    /// A stencil-pyramid plan without a device: the CPU side of a foveated frame, for tests.
+    #[cfg(test)]
+    pub(crate) fn for_test(screen: (u32, u32), top_level: u32, atlas: LevelAtlas, policy: &LodPolicy) -> Self {
+        let level_extents = atlas.extents.clone();
+        Self {
+            screen,
+            top_level,
+            level_bounds: bounds_of_levels(screen, &level_extents, policy, true),
+            level_extents,
+            padded: screen,
+            skip_absent_levels_on_gpu: false,
+            stencil_pyramid: true,
+            levels_from_foveation: matches!(policy, LodPolicy::Foveated { .. }),
+            edge_pyramid: false,
+            atlas,
+        }
+    }
+
     pub fn levels(&self) -> u32 {
         self.top_level + 1
+    }
+
+    /// A level's draw in atlas coordinates (its spans): the whole atlas as viewport, scissored as
+    /// `set_level_viewport`.
+    pub(crate) fn set_atlas_viewport(&self, pass: &mut wgpu::RenderPass<'_>, level: usize) {
+        let (x, y, _, _) = self.atlas.rect(level);
+        let (bx, by, bw, bh) = self.level_bounds[level];
+        pass.set_viewport(0.0, 0.0, self.atlas.size.0 as f32, self.atlas.size.1 as f32, 0.0, 1.0);
+        pass.set_scissor_rect(x + bx, y + by, bw, bh);
     }
 
     /// A level's draw: its rect of the atlas as viewport, scissored to the texels that can be

@@ -2,7 +2,8 @@
 //! coarser levels (one pass each) — neither under the foveated policy, whose passes compute a
 //! pixel's level where they need it → one pass that marks every level's stencil, side by side in
 //! one atlas (one draw a level; under the foveated policy one instanced draw for all), then lights
-//! every level behind stencil Equal (one draw a level, its viewport the level's rect) → composite.
+//! every level behind stencil Equal (one draw a level, its viewport the level's rect; under the
+//! foveated policy the rects of its spans, cps/level_spans.rs) → composite.
 //! Targets and pipelines are made once per renderer; `render` records one frame in one encoder
 //! with a timestamp pair around every pass and an occlusion query around every level's lighting
 //! draw.
@@ -11,9 +12,10 @@ use anyhow::{Context, Result};
 use glam::Vec3;
 
 use super::config::{CpsConfig, LodPolicy};
+use super::level_spans::{LevelSpans, SpanBatch};
 use super::plan::Plan;
 use super::reference::Level;
-use super::stencil_marks::StencilMarks;
+use super::stencil_marks::{MarkSource, StencilMarks, foveated_blocks};
 use super::targets::OrPyramid;
 use crate::deferred::gbuffer::Gbuffer;
 use crate::deferred::lighting::{HDR, shading_uniform};
@@ -21,7 +23,7 @@ use crate::deferred::lights::LightTexture;
 use crate::fullscreen::{FullscreenPipeline, bind_group, bind_group_at, uniform_buffer};
 use crate::gpu::Gpu;
 use crate::query::{GpuTimer, OcclusionQueries, PassTime};
-use crate::rects::stencil_state;
+use crate::rects::{RectFragment, RectPipeline, stencil_state};
 use crate::shaders;
 
 const LOD: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
@@ -128,7 +130,6 @@ pub struct CpsRenderer {
     pub image: wgpu::Texture,
     /// Indirect draw arguments of each level's lighting draw.
     pub(crate) level_draws: wgpu::Buffer,
-    level_uniforms: Vec<wgpu::Buffer>,
     /// The LOD buffer and mask level 0 from the policy, or (the caller's own LOD) mask level 0
     /// from the LOD buffer, or (levels from the foveation) the LOD buffer alone.
     lod_pipeline: wgpu::RenderPipeline,
@@ -136,6 +137,12 @@ pub struct CpsRenderer {
     edge_pipeline: Option<wgpu::RenderPipeline>,
     /// Stencil marks, drawn at the start of the lighting pass.
     marks: Option<StencilMarks>,
+    /// Where the levels come from the foveation (with a stencil pyramid), each level's lighting
+    /// draws its spans, not its whole bounds (cps/level_spans.rs).
+    light_spans: Option<SpanBatch>,
+    /// Each level's group 1 of the lighting.
+    light_level_groups: Vec<wgpu::BindGroup>,
+    /// A full-screen triangle a level, or a rect a span.
     light_pipeline: wgpu::RenderPipeline,
     composite_pipeline: wgpu::RenderPipeline,
 }
@@ -192,9 +199,41 @@ impl CpsRenderer {
                 uniform_buffer(gpu, "level", bytemuck::cast_slice(&[level as u32, x, y, 0]))
             })
             .collect();
-        let marks = plan
+        let foveated = (plan.stencil_pyramid && plan.levels_from_foveation)
+            .then(|| (foveated_blocks(gpu, &plan, &config.policy), LevelSpans::foveated(&plan, &config.policy)));
+        let marks = plan.stencil_pyramid.then(|| {
+            let source = match (&mask, &foveated) {
+                (Some(mask), _) => MarkSource::Pyramid(&mask.chain),
+                (None, Some((blocks, spans))) => MarkSource::Foveation(blocks, spans),
+                (None, None) => {
+                    unreachable!("a stencil pyramid without a mask pyramid has its levels from the foveation")
+                }
+            };
+            StencilMarks::new(gpu, &plan, source, &level_uniforms)
+        });
+        let lit_where_marked = plan
             .stencil_pyramid
-            .then(|| StencilMarks::new(gpu, &plan, &config.policy, mask.as_ref().map(|m| &m.chain), &level_uniforms));
+            .then(|| stencil_state(STENCIL, wgpu::CompareFunction::Equal, wgpu::StencilOperation::Keep));
+        let light_pipeline = match &foveated {
+            Some(_) => RectPipeline {
+                colour_format: Some(HDR),
+                fragment: RectFragment::CpsFoveatedLevelLighting,
+                depth_stencil: lit_where_marked,
+                ..RectPipeline::new("light level spans")
+            }
+            .create(gpu),
+            None => fullscreen("light level", shaders::CPS_LIGHTING, "fs_light_level", Some(HDR), lit_where_marked),
+        };
+        // Under the foveated policy each level's group also holds the blocks' uniform.
+        let light_level_groups = level_uniforms
+            .iter()
+            .map(|uniform| {
+                let mut resources = vec![(0, uniform.as_entire_binding())];
+                resources.extend(foveated.as_ref().map(|(blocks, _)| (1, blocks.as_entire_binding())));
+                bind_group_at(gpu, "light level", &light_pipeline, 1, &resources)
+            })
+            .collect();
+        let light_spans = foveated.map(|(_, spans)| spans.batch(gpu, atlas.size));
         let level_draws = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("level draws"),
             size: 16 * 9,
@@ -214,18 +253,12 @@ impl CpsRenderer {
             lit: gpu.texture("lit atlas", atlas.size, HDR, 1, target_usage() | wgpu::TextureUsages::COPY_DST),
             image: gpu.texture("cps composite", screen, HDR, 1, target_usage()),
             level_draws,
-            level_uniforms,
             lod_pipeline,
             edge_pipeline,
             marks,
-            light_pipeline: fullscreen(
-                "light level",
-                shaders::CPS_LIGHTING,
-                "fs_light_level",
-                Some(HDR),
-                plan.stencil_pyramid
-                    .then(|| stencil_state(STENCIL, wgpu::CompareFunction::Equal, wgpu::StencilOperation::Keep)),
-            ),
+            light_spans,
+            light_level_groups,
+            light_pipeline,
             composite_pipeline: FullscreenPipeline {
                 label: "composite",
                 fragment: shaders::CPS_COMPOSITE,
@@ -251,8 +284,12 @@ impl CpsRenderer {
         let levels = self.plan.levels();
         let mut timer = GpuTimer::new(gpu, 6 * levels + 8);
         let queries = OcclusionQueries::new(gpu, levels);
-        let draws: Vec<[u32; 4]> = (0..9).map(|_| [3, u32::from(!self.plan.skip_absent_levels_on_gpu), 0, 0]).collect();
-        gpu.queue.write_buffer(&self.level_draws, 0, bytemuck::cast_slice(&draws));
+        // Drawn from where a level is a full-screen triangle (its spans are direct draws).
+        if self.light_spans.is_none() {
+            let draws: Vec<[u32; 4]> =
+                (0..9).map(|_| [3, u32::from(!self.plan.skip_absent_levels_on_gpu), 0, 0]).collect();
+            gpu.queue.write_buffer(&self.level_draws, 0, bytemuck::cast_slice(&draws));
+        }
         if let LodPolicy::Explicit(values) = &self.config.policy {
             gpu.queue.write_texture(
                 self.lod.as_image_copy(),
@@ -505,17 +542,18 @@ impl CpsRenderer {
         pass.set_pipeline(&self.light_pipeline);
         pass.set_bind_group(0, &inputs, &[]);
         for level in 0..self.plan.levels() as usize {
-            let group = bind_group(
-                gpu,
-                "light level",
-                &self.light_pipeline,
-                1,
-                &[self.level_uniforms[level].as_entire_binding()],
-            );
-            pass.set_bind_group(1, &group, &[]);
-            self.plan.set_level_viewport(&mut pass, level);
+            pass.set_bind_group(1, &self.light_level_groups[level], &[]);
             pass.begin_occlusion_query(level as u32);
-            pass.draw_indirect(&self.level_draws, level_draw_offset(level));
+            match &self.light_spans {
+                Some(spans) => {
+                    self.plan.set_atlas_viewport(&mut pass, level);
+                    spans.draw_level(&mut pass, level);
+                }
+                None => {
+                    self.plan.set_level_viewport(&mut pass, level);
+                    pass.draw_indirect(&self.level_draws, level_draw_offset(level));
+                }
+            }
             pass.end_occlusion_query();
         }
     }

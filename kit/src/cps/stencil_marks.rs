@@ -2,38 +2,58 @@
 //! some pixel of whose block uses that level (shaders/cps/stencil_mark.wgsl): from the LOD-present
 //! mask pyramid, one draw a level (an even and an odd level's pipeline; none for a level the LOD
 //! pass found absent), or where the levels come from the foveation, from each block's geometry in
-//! one instanced draw.
+//! one instanced draw over every level's spans (cps/level_spans.rs).
 
 use super::config::LodPolicy;
+use super::level_spans::{LevelSpans, SpanBatch};
 use super::plan::Plan;
 use super::renderer::{STENCIL, level_draw_offset};
 use super::targets::MipChain;
 use crate::deferred::lighting::HDR;
 use crate::fullscreen::{FullscreenPipeline, bind_group_at, uniform_buffer};
 use crate::gpu::Gpu;
-use crate::rects::{Rect, RectBatch, RectFragment, RectPipeline, stencil_replace};
+use crate::rects::{RectFragment, RectPipeline, stencil_replace};
 use crate::shaders;
 
 /// The marks' draws: one a level from the pyramid, or one instanced draw from the foveation.
 pub(super) enum StencilMarks {
     /// The even and the odd levels' pipelines, and each level's bind group.
     Pyramid { pipelines: [wgpu::RenderPipeline; 2], level_groups: Vec<wgpu::BindGroup> },
-    /// One pipeline and bind group for every level, and a rect a level (`crate::rects`): the
-    /// level's bounds in the atlas, the level in its colour.
-    Foveated { pipeline: wgpu::RenderPipeline, group: wgpu::BindGroup, bounds: RectBatch },
+    /// One pipeline and bind group for every level, and every level's spans (the level in each
+    /// rect's colour).
+    Foveated { pipeline: wgpu::RenderPipeline, group: wgpu::BindGroup, spans: SpanBatch },
+}
+
+/// The uniform a block's levels under the foveated policy follow from (common/foveation.wgsl's
+/// `FoveatedBlocks`): the foveation, the screen, each level's origin in the atlas.
+pub(super) fn foveated_blocks(gpu: &Gpu, plan: &Plan, policy: &LodPolicy) -> wgpu::Buffer {
+    let (w, h) = plan.screen;
+    let mut words = policy.foveation_words(plan.screen, plan.top_level).to_vec();
+    words.extend([w, h, 0, 0]);
+    let mut origins = [[0u32; 4]; 9];
+    for (level, origin) in origins.iter_mut().enumerate().take(plan.levels() as usize) {
+        let (x, y) = plan.atlas.origins[level];
+        *origin = [x, y, 0, 0];
+    }
+    words.extend(origins.iter().flatten());
+    uniform_buffer(gpu, "foveated blocks", bytemuck::cast_slice(&words))
+}
+
+/// Where the marks read which levels a block uses.
+pub(super) enum MarkSource<'a> {
+    /// The finished LOD-present mask pyramid.
+    Pyramid(&'a MipChain),
+    /// The foveation (`foveated_blocks`), over the levels' spans.
+    Foveation(&'a wgpu::Buffer, &'a LevelSpans),
 }
 
 impl StencilMarks {
-    /// The marks of a plan's levels, read from `mask` (its finished pyramid) or, without one,
-    /// from the foveation.
-    pub(super) fn new(
-        gpu: &Gpu,
-        plan: &Plan,
-        policy: &LodPolicy,
-        mask: Option<&MipChain>,
-        level_uniforms: &[wgpu::Buffer],
-    ) -> Self {
-        let Some(mask) = mask else { return Self::foveated(gpu, plan, policy) };
+    /// The marks of a plan's levels, read from `source`.
+    pub(super) fn new(gpu: &Gpu, plan: &Plan, source: MarkSource<'_>, level_uniforms: &[wgpu::Buffer]) -> Self {
+        let mask = match source {
+            MarkSource::Pyramid(mask) => mask,
+            MarkSource::Foveation(blocks, spans) => return Self::foveated(gpu, plan, blocks, spans),
+        };
         // In the lighting pass: its colour target, left unwritten.
         let unwritten =
             [Some(wgpu::ColorTargetState { format: HDR, blend: None, write_mask: wgpu::ColorWrites::empty() })];
@@ -59,8 +79,8 @@ impl StencilMarks {
         Self::Pyramid { pipelines, level_groups }
     }
 
-    /// Every level's marks from the foveation, in one draw.
-    fn foveated(gpu: &Gpu, plan: &Plan, policy: &LodPolicy) -> Self {
+    /// Every level's marks from the foveation (`blocks`: `foveated_blocks`), in one draw.
+    fn foveated(gpu: &Gpu, plan: &Plan, blocks: &wgpu::Buffer, spans: &LevelSpans) -> Self {
         let pipeline = RectPipeline {
             colour_format: Some(HDR),
             colour_writes: wgpu::ColorWrites::empty(),
@@ -69,22 +89,8 @@ impl StencilMarks {
             ..RectPipeline::new("foveated stencil marks")
         }
         .create(gpu);
-        let (w, h) = plan.screen;
-        let mut words = policy.foveation_words(plan.screen, plan.top_level).to_vec();
-        words.extend([w, h, 0, 0]);
-        let mut origins = [[0u32; 4]; 9];
-        let mut bounds = Vec::new();
-        for (level, origin) in origins.iter_mut().enumerate().take(plan.levels() as usize) {
-            let (x, y, _, _) = plan.atlas.rect(level);
-            let (bx, by, bw, bh) = plan.level_bounds[level];
-            *origin = [x, y, 0, 0];
-            let rect = Rect::new((x + bx) as f32, (y + by) as f32, (x + bx + bw) as f32, (y + by + bh) as f32);
-            bounds.push((rect, [level as f32, 0.0, 0.0, 0.0]));
-        }
-        words.extend(origins.iter().flatten());
-        let uniform = uniform_buffer(gpu, "foveated marks", bytemuck::cast_slice(&words));
-        let group = bind_group_at(gpu, "foveated stencil marks", &pipeline, 0, &[(2, uniform.as_entire_binding())]);
-        Self::Foveated { pipeline, group, bounds: RectBatch::new(gpu, plan.atlas.size, &bounds) }
+        let group = bind_group_at(gpu, "foveated stencil marks", &pipeline, 0, &[(2, blocks.as_entire_binding())]);
+        Self::Foveated { pipeline, group, spans: spans.batch(gpu, plan.atlas.size) }
     }
 
     /// Every level's marks, into `pass` (stencil reference 1). From the pyramid, each level is
@@ -102,13 +108,13 @@ impl StencilMarks {
                     pass.draw_indirect(level_draws, level_draw_offset(level));
                 }
             }
-            Self::Foveated { pipeline, group, bounds } => {
+            Self::Foveated { pipeline, group, spans } => {
                 let (w, h) = plan.atlas.size;
                 pass.set_viewport(0.0, 0.0, w as f32, h as f32, 0.0, 1.0);
                 pass.set_scissor_rect(0, 0, w, h);
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, group, &[]);
-                bounds.draw(pass, ..);
+                spans.draw_all(pass);
             }
         }
     }

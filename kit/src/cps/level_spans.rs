@@ -1,0 +1,249 @@
+//! Under the foveated policy, what each level's stencil marks and lighting draw: rectangles over
+//! the texels the marks can mark (common/foveation.wgsl's `foveated_block_has_level`), in bands of
+//! atlas rows, instead of the box around the level's disk (`Plan::level_bounds`), whose hole and
+//! corners hold a third of its texels. The stencil still decides which texels are lit: a span may
+//! hold more than the marks mark, never less. (Where the adapter has no early stencil rejection,
+//! the lighting shader also skips the lights of a texel the rule leaves out: cps/lighting.wgsl.)
+
+use std::ops::Range;
+
+use super::config::LodPolicy;
+use super::plan::Plan;
+use crate::gpu::Gpu;
+use crate::rects::{Rect, RectBatch};
+
+/// The spans' grain in atlas texels, rows and columns: coarser spans shade more rejected texels,
+/// finer ones draw more rects. Measured with `fragkit bench cps --matrix lavapipe,swiftshader`
+/// (r = 24, share of reachable on SwiftShader, two invocations each): 2 → 62 %, 16 → 82 / 82 %,
+/// 64 → 77 / 75 %, the whole bounds → 74 / 76 %; lavapipe, which rejects early, 72–90 % at every
+/// grain (docs/benchmarks.md).
+const BAND: u32 = 16;
+
+/// How far the spans widen a block's squared distances: 2^-16 of them, 16 times the marks' own
+/// widening (2^-20, `MARK_WIDENING`), which already exceeds the GPU's f32 error many times over.
+const SPAN_WIDENING: f64 = 1.0 / 65536.0;
+
+/// Every level's spans, in atlas texels.
+pub(super) struct LevelSpans {
+    levels: Vec<Vec<Rect>>,
+}
+
+/// One batch of every level's spans (the level in each instance's red, as the marks read it)
+/// and where each level's instances lie in it.
+pub(super) struct SpanBatch {
+    batch: RectBatch,
+    ranges: Vec<Range<u32>>,
+}
+
+impl LevelSpans {
+    /// The spans of a plan whose levels come from the foveation.
+    pub(super) fn foveated(plan: &Plan, policy: &LodPolicy) -> Self {
+        let LodPolicy::Foveated { focus, inner_radius } = policy else {
+            unreachable!("levels come from the foveation only under the foveated policy")
+        };
+        // The focus as the GPU has it (`LodPolicy::foveation_words`), the boundaries exact.
+        let focus = (f64::from(focus.0 * plan.screen.0 as f32), f64::from(focus.1 * plan.screen.1 as f32));
+        let radius = f64::from(inner_radius.max(1e-3));
+        let squared_boundaries: Vec<f64> =
+            (1..=plan.top_level).map(|k| (radius * (f64::from(1u32 << k) - 1.0)).powi(2)).collect();
+        let rule = MarkRule { screen: plan.screen, focus, squared_boundaries };
+        Self { levels: (0..plan.levels() as usize).map(|level| level_spans(plan, &rule, level)).collect() }
+    }
+
+    /// The spans of `level`.
+    #[cfg(test)]
+    fn level(&self, level: usize) -> &[Rect] {
+        &self.levels[level]
+    }
+
+    /// Every level's spans in one batch on the atlas.
+    pub(super) fn batch(&self, gpu: &Gpu, atlas_size: (u32, u32)) -> SpanBatch {
+        let mut instances = Vec::new();
+        let mut ranges = Vec::new();
+        for (level, rects) in self.levels.iter().enumerate() {
+            let start = instances.len() as u32;
+            instances.extend(rects.iter().map(|&rect| (rect, [level as f32, 0.0, 0.0, 0.0])));
+            ranges.push(start..instances.len() as u32);
+        }
+        SpanBatch { batch: RectBatch::new(gpu, atlas_size, &instances), ranges }
+    }
+}
+
+impl SpanBatch {
+    /// Every level's spans (the viewport: the whole atlas).
+    pub(super) fn draw_all(&self, pass: &mut wgpu::RenderPass<'_>) {
+        self.batch.draw(pass, ..);
+    }
+
+    /// Level `level`'s spans (the viewport: the whole atlas).
+    pub(super) fn draw_level(&self, pass: &mut wgpu::RenderPass<'_>, level: usize) {
+        self.batch.draw(pass, self.ranges[level].clone());
+    }
+}
+
+/// The marks' rule, in f64 and widened: which levels a block of pixels can be marked for.
+struct MarkRule {
+    screen: (u32, u32),
+    /// In pixels.
+    focus: (f64, f64),
+    /// R_k² for k = 1..=top.
+    squared_boundaries: Vec<f64>,
+}
+
+impl MarkRule {
+    fn level_of_squared_distance(&self, squared: f64) -> u32 {
+        self.squared_boundaries.iter().filter(|&&boundary| squared >= boundary).count() as u32
+    }
+
+    /// Whether the marks can mark texel (x, y) of `level`: as the shader, from the block's
+    /// nearest pixel centre and its farther corner's, but both corners taken (the shader's f32
+    /// choice between them may go either way at a tie) and the distances widened.
+    fn may_mark(&self, level: u32, x: u32, y: u32) -> bool {
+        let span = |texel: u32, extent: u32, focus: f64| {
+            let first = texel << level;
+            let last = (first + (1 << level) - 1).min(extent - 1);
+            let nearest = focus.floor().clamp(f64::from(first), f64::from(last)) + 0.5 - focus;
+            let farthest = (f64::from(first) + 0.5 - focus).abs().max((f64::from(last) + 0.5 - focus).abs());
+            (nearest * nearest, farthest * farthest)
+        };
+        let (near_x, far_x) = span(x, self.screen.0, self.focus.0);
+        let (near_y, far_y) = span(y, self.screen.1, self.focus.1);
+        let finest = self.level_of_squared_distance((near_x + near_y) * (1.0 - SPAN_WIDENING));
+        let coarsest = self.level_of_squared_distance((far_x + far_y) * (1.0 + SPAN_WIDENING));
+        (finest..=coarsest).contains(&level)
+    }
+}
+
+/// Level `level`'s spans: for each band of `BAND` atlas rows, the runs of texels any of its rows
+/// may mark, widened to whole `BAND`-texel columns and clipped to the level's bounds; a band with
+/// the same runs as the one above extends its rects.
+fn level_spans(plan: &Plan, rule: &MarkRule, level: usize) -> Vec<Rect> {
+    let (ox, oy, _, _) = plan.atlas.rect(level);
+    let (bx, by, bw, bh) = plan.level_bounds[level];
+    let mut rects: Vec<Rect> = Vec::new();
+    let mut above: Vec<(u32, u32)> = Vec::new();
+    let mut above_first = 0;
+    let band = BAND;
+    let mut pair = (oy + by) / band * band;
+    while pair < oy + by + bh {
+        let rows = pair.max(oy + by) - oy..(pair + band).min(oy + by + bh) - oy;
+        let marked: Vec<bool> =
+            (bx..bx + bw).map(|x| rows.clone().any(|y| rule.may_mark(level as u32, x, y))).collect();
+        let mut runs: Vec<(u32, u32)> = Vec::new();
+        let mut x = 0;
+        while x < marked.len() {
+            if !marked[x] {
+                x += 1;
+                continue;
+            }
+            let start = x;
+            while x < marked.len() && marked[x] {
+                x += 1;
+            }
+            let left = ((ox + bx + start as u32) / band * band).max(ox + bx);
+            let right = ((ox + bx + x as u32).next_multiple_of(band)).min(ox + bx + bw);
+            match runs.last_mut() {
+                Some(last) if last.1 >= left => last.1 = right,
+                _ => runs.push((left, right)),
+            }
+        }
+        let (top, bottom) = (pair.max(oy + by), (pair + band).min(oy + by + bh));
+        if runs == above && !runs.is_empty() {
+            for rect in &mut rects[above_first..] {
+                rect.y1 = bottom as f32;
+            }
+        } else {
+            above_first = rects.len();
+            rects.extend(runs.iter().map(|&(x0, x1)| Rect::new(x0 as f32, top as f32, x1 as f32, bottom as f32)));
+            above = runs;
+        }
+        pair += band;
+    }
+    rects
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cps::atlas::LevelAtlas;
+
+    /// The marks shader's decision in f32, with the GPU's rounding errors allowed for by a
+    /// widening `error` times the shader's own (2^-20).
+    fn shader_marks(
+        screen: (u32, u32),
+        focus: (f32, f32),
+        words: &[u32],
+        level: u32,
+        texel: (u32, u32),
+        error: f32,
+    ) -> bool {
+        let boundaries: Vec<f32> = words[4..].iter().map(|&w| f32::from_bits(w)).collect();
+        let level_of = |squared: f32| boundaries.iter().filter(|&&b| squared >= b).count() as u32;
+        let focus = (focus.0 * screen.0 as f32, focus.1 * screen.1 as f32);
+        let first = (texel.0 << level, texel.1 << level);
+        let last = ((first.0 + (1 << level) - 1).min(screen.0 - 1), (first.1 + (1 << level) - 1).min(screen.1 - 1));
+        let nearest = (
+            focus.0.floor().clamp(first.0 as f32, last.0 as f32),
+            focus.1.floor().clamp(first.1 as f32, last.1 as f32),
+        );
+        let far = |first: u32, last: u32, focus: f32| {
+            if last as f32 + 0.5 - focus > focus - (first as f32 + 0.5) { last as f32 } else { first as f32 }
+        };
+        let farthest = (far(first.0, last.0, focus.0), far(first.1, last.1, focus.1));
+        let squared = |p: (f32, f32)| (p.0 + 0.5 - focus.0).powi(2) + (p.1 + 0.5 - focus.1).powi(2);
+        let widening = 9.536_743e-7 * error;
+        let finest = level_of(squared(nearest) * (1.0 - widening));
+        let coarsest = level_of(squared(farthest) * (1.0 + widening));
+        (finest..=coarsest).contains(&level)
+    }
+
+    #[test]
+    fn every_texel_the_marks_can_mark_lies_in_a_span_of_its_level() {
+        for screen in [(640u32, 360u32), (37, 23), (1, 1), (300, 6), (5, 200), (257, 131)] {
+            let top = screen.0.max(screen.1).next_power_of_two().trailing_zeros().min(8);
+            for inner_radius in [1.0, 6.0, 24.0, 100.0] {
+                for focus in [(0.5, 0.5), (0.0, 0.0), (1.0, 1.0), (0.3, 0.9), (0.501, 0.499)] {
+                    let policy = LodPolicy::Foveated { focus, inner_radius };
+                    let extents: Vec<(u32, u32)> =
+                        (0..=top).map(|l| (screen.0.div_ceil(1 << l), screen.1.div_ceil(1 << l))).collect();
+                    let plan = Plan::for_test(screen, top, LevelAtlas::new(&extents), &policy);
+                    let spans = LevelSpans::foveated(&plan, &policy);
+                    let words = policy.foveation_words(screen, top);
+                    let mut spanned = 0u64;
+                    let mut boxed = 0u64;
+                    for level in 0..=top {
+                        let (ox, oy, w, h) = plan.atlas.rect(level as usize);
+                        for rect in spans.level(level as usize) {
+                            assert!(
+                                rect.x0 >= ox as f32 && rect.y0 >= oy as f32,
+                                "{screen:?} level {level}: {rect:?} outside its rect"
+                            );
+                            assert!(
+                                rect.x1 <= (ox + w) as f32 && rect.y1 <= (oy + h) as f32,
+                                "{screen:?} level {level}: {rect:?} outside its rect"
+                            );
+                            spanned += ((rect.x1 - rect.x0) * (rect.y1 - rect.y0)) as u64;
+                        }
+                        let (_, _, bw, bh) = plan.level_bounds[level as usize];
+                        boxed += u64::from(bw * bh);
+                        for y in 0..h {
+                            for x in 0..w {
+                                let centre = ((ox + x) as f32 + 0.5, (oy + y) as f32 + 0.5);
+                                let covered = spans.level(level as usize).iter().any(|r| r.covers(centre.0, centre.1));
+                                // Four times the shader's widening stands for the GPU's errors.
+                                assert!(
+                                    covered || !shader_marks(screen, focus, &words, level, (x, y), 4.0),
+                                    "{screen:?} r {inner_radius} focus {focus:?}: level {level} texel ({x}, {y}) may be marked outside every span"
+                                );
+                            }
+                        }
+                    }
+                    // Around a ring wide enough to hold bands, the spans leave out its hole.
+                    if inner_radius >= 24.0 && screen == (640, 360) {
+                        assert!(spanned < boxed, "{spanned} texels spanned, {boxed} in the levels' bounds");
+                    }
+                }
+            }
+        }
+    }
+}
