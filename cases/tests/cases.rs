@@ -4,11 +4,7 @@
 
 mod support;
 
-use fragkit::harness::report::CaseRecord;
-
-/// Metrics that are timings: they vary run to run and stay out of snapshots.
-const TIMING_METRICS: &[&str] =
-    &["equal_ms", "always_ms", "time_ratio", "level0_ms", "foveated_lighting", "probe_time_ratio"];
+use fragkit::harness::report::{CaseRecord, is_timing_metric};
 
 fn check(name: &str) {
     let (record, slug) = support::run(name);
@@ -26,7 +22,7 @@ fn check(name: &str) {
 
 fn snapshot(record: &CaseRecord, slug: &str) {
     let mut metrics = record.metrics.clone();
-    metrics.retain(|k, _| !TIMING_METRICS.contains(&k.as_str()));
+    metrics.retain(|k, _| !is_timing_metric(k));
     let mut settings = insta::Settings::clone_current();
     settings.set_snapshot_path("../../snapshots");
     settings.set_snapshot_suffix(slug);

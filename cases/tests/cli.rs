@@ -281,10 +281,14 @@ fn shards_run_every_case_once_and_merge_into_one_report_with_junit() {
     assert!(xml.contains("<testsuites name=\"fragkit\" tests=\"3\" failures=\"0\""), "{xml}");
     assert_eq!(xml.matches("<testcase ").count(), 3, "{xml}");
 
-    // The same shard twice overlaps; a truncated report is refused; so are impossible shards.
+    // The same shard twice, or part of the set, is refused (the run would pass for the whole); a
+    // truncated report is refused; so are impossible shards.
     let (code, text) = fragkit(&["merge", reports[0].to_str().unwrap(), reports[0].to_str().unwrap()]);
     assert_eq!(code, 2, "{text}");
-    assert!(text.contains("overlapping shards"), "{text}");
+    assert!(text.contains("are both shard 1/2"), "{text}");
+    let (code, text) = fragkit(&["merge", reports[1].to_str().unwrap()]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("shard 1/2 missing: 1 of 2 shards given"), "{text}");
     let truncated = dir.join("truncated.json");
     let whole = std::fs::read_to_string(&reports[1]).unwrap();
     std::fs::write(&truncated, &whole[..whole.len() / 2]).unwrap();
@@ -340,6 +344,16 @@ fn compare_reports_a_case_broken_in_the_new_run_and_exits_non_zero() {
     let (code, text) = fragkit(&["compare", base.to_str().unwrap(), broken.to_str().unwrap()]);
     assert_eq!(code, 1, "{text}");
     assert!(text.contains("1 regressions") && text.contains("| `kit.hash.values` | pass | FAIL |"), "{text}");
+    // The broken case's time is no verdict: its outcome is the news.
+    assert!(text.contains("the case is FAIL in the new run"), "{text}");
+    // A new run that ran nothing is no run to pass.
+    let empty = dir.join("empty.json");
+    let mut report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&base).unwrap()).unwrap();
+    report["cases"] = serde_json::json!([]);
+    std::fs::write(&empty, report.to_string()).unwrap();
+    let (code, text) = fragkit(&["compare", base.to_str().unwrap(), empty.to_str().unwrap()]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("holds no case runs"), "{text}");
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -464,6 +478,83 @@ fn runs_recorded_in_a_postgres_database_compare_and_concurrent_writers_both_land
     let (code, text) = fragkit(&["check", "kit.hash.values", "--db", "postgres://fragkit@127.0.0.1:1/none"]);
     assert!(code == 2 && text.contains("connecting to the results database"), "{text}");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn the_store_refuses_what_it_cannot_keep_before_the_run_and_never_shows_a_secret() {
+    let dir = std::env::temp_dir().join(format!("fragkit-store-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let in_dir = |args: &[&str]| {
+        let output = Command::new(env!("CARGO_BIN_EXE_fragkit")).args(args).current_dir(&dir).output().unwrap();
+        let text = String::from_utf8_lossy(&output.stdout).into_owned() + &String::from_utf8_lossy(&output.stderr);
+        assert!(!text.contains("panicked"), "{text}");
+        (output.status.code().unwrap_or(-1), text)
+    };
+    let files = || -> Vec<String> {
+        let mut names: Vec<String> =
+            std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        names.sort();
+        names
+    };
+    // An empty --db, another scheme, a libpq string (a server, not a file named with the password).
+    for db in ["", "mysql://kit:hunter2@localhost/runs", "http://localhost/runs"] {
+        let (code, text) = in_dir(&["check", "kit.hash.values", "--db", db]);
+        assert_eq!(code, 2, "--db {db:?}: {text}");
+        assert!(!text.contains("hunter2") && !text.contains("recorded as run"), "{text}");
+    }
+    let (code, text) =
+        in_dir(&["check", "kit.hash.values", "--db", "host=/nonexistent password=hunter2 dbname=fragkit"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("password=***") && !text.contains("hunter2"), "{text}");
+    assert!(files().is_empty(), "{:?}", files());
+    // Readers never create the file they were pointed at.
+    for args in [
+        &["history", "kit.hash.values", "--db", "typo.sqlite", "--out", "h.png"][..],
+        &["compare", "--db", "typo.sqlite", "latest~1", "latest"],
+        &["html", "--db", "typo.sqlite", "--out", "site"],
+    ] {
+        let (code, text) = in_dir(args);
+        assert_eq!(code, 2, "{args:?}: {text}");
+        assert!(text.contains("no results database at typo.sqlite"), "{text}");
+    }
+    assert!(!dir.join("typo.sqlite").exists());
+    // A damaged page and a read-only file are found before the run.
+    let (code, text) = in_dir(&["check", "kit.hash.values", "--db", "runs.sqlite"]);
+    assert_eq!(code, 0, "{text}");
+    let (code, text) =
+        in_dir(&["history", "kit.hash.values", "--db", "runs.sqlite", "--metric", "nope", "--out", "h.png"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("no metric \"nope\""), "{text}");
+    let mut bytes = std::fs::read(dir.join("runs.sqlite")).unwrap();
+    let page = 4096.min(bytes.len() / 2);
+    let end = (2 * page).min(bytes.len());
+    for byte in &mut bytes[page..end] {
+        *byte = 0xA5;
+    }
+    std::fs::write(dir.join("damaged.sqlite"), &bytes).unwrap();
+    let (code, text) = in_dir(&["check", "kit.hash.values", "--db", "damaged.sqlite"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("damaged.sqlite") && !text.contains("kit.hash.values  "), "{text}");
+    std::fs::copy(dir.join("runs.sqlite"), dir.join("readonly.sqlite")).unwrap();
+    let mut permissions = std::fs::metadata(dir.join("readonly.sqlite")).unwrap().permissions();
+    permissions.set_readonly(true);
+    std::fs::set_permissions(dir.join("readonly.sqlite"), permissions).unwrap();
+    let root = runs_as_root();
+    // Root writes whatever the permissions say: there the file is not read-only to it.
+    if !root {
+        let (code, text) = in_dir(&["check", "kit.hash.values", "--db", "readonly.sqlite"]);
+        assert_eq!(code, 2, "{text}");
+        assert!(text.contains("is read-only"), "{text}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Whether this process runs as root, whom file permissions do not stop.
+fn runs_as_root() -> bool {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| s.lines().find(|l| l.starts_with("Uid:")).map(|l| l.split_whitespace().nth(1) == Some("0")))
+        .unwrap_or(false)
 }
 
 #[test]

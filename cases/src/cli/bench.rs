@@ -67,6 +67,7 @@ pub fn bench(selector: &AdapterSelector, args: BenchArgs) -> Result<()> {
             adapter: gpu.description.clone(),
             cases: results.iter().flat_map(BenchResult::records).collect(),
             diagnostics: fragkit::harness::diagnostics::take(),
+            shard: None,
         };
         let id = database.record(&report, &RunInfo::now(args.tag.clone()))?;
         println!("recorded as run {id} in {}", database.location());

@@ -17,6 +17,7 @@ use fragkit::harness::params::parse_overrides;
 use fragkit::harness::report::{Report, ReportedOutcome};
 use fragkit::harness::run::{CaseRun, JsonSink, RunOptions, Shard, Sink, plan_runs, run};
 use fragkit::harness::runner::{check_overrides, check_sizes, select};
+use fragkit::harness::snapshot::Snapshot;
 use fragkit::harness::stream::StreamSink;
 
 use super::matrix::{
@@ -87,6 +88,14 @@ pub struct CheckArgs {
     /// As a child: start at this case run of the list.
     #[arg(long, hide = true, default_value_t = 0)]
     skip: usize,
+    /// With --matrix: hold each configuration's outcomes and metrics (timings left out) to its
+    /// snapshot, DIR/<name>.json (the repository's: snapshots/matrix); a departure fails the run.
+    #[arg(long, value_name = "DIR", requires = "matrix")]
+    snapshots: Option<PathBuf>,
+    /// With --snapshots: write each configuration's snapshot from this run instead (case runs it
+    /// did not run keep their entries).
+    #[arg(long, requires = "snapshots")]
+    update_snapshots: bool,
     #[command(flatten)]
     matrix: MatrixArgs,
 }
@@ -119,7 +128,7 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
         check_writable(path)?;
     }
     if let Some(names) = args.matrix.matrix.clone() {
-        return check_matrix(selector, &args, &names);
+        return check_matrix(selector, &args, &names, &expectations);
     }
     if let Some(stream) = &args.child_stream {
         return run_child(selector, &args, stream, &cases, &overrides, shard, &expectations);
@@ -132,7 +141,7 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     }
 
     let mut table = TableSink::new(verbose);
-    let mut json = args.json.as_deref().map(|path| JsonSink { path });
+    let mut json = args.json.as_deref().map(|path| JsonSink { path, shard });
     let mut junit = args.junit.as_deref().map(|path| JunitSink { path, flaky_fails: args.flaky_fails });
     let mut database =
         database.map(|database| DatabaseSink { database, info: RunInfo::now(args.tag.clone()), run_id: None });
@@ -144,7 +153,7 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     sinks.extend(database.as_mut().map(|sink| sink as &mut dyn Sink));
     sinks.extend(html.as_mut().map(|sink| sink as &mut dyn Sink));
     // The child gets this command line without what only the parent writes.
-    let child_arguments = arguments_without(&["--json", "--junit", "--html", "--db", "--tag"]);
+    let child_arguments = arguments_without(&["--json", "--junit", "--html", "--db", "--tag"], &[]);
     let timeout = std::time::Duration::from_secs(args.timeout);
     let report = supervise(&runs, &child_arguments, &expectations, timeout, verbose, &mut sinks)?;
     if let Some(DatabaseSink { database, run_id: Some(id), .. }) = &database {
@@ -196,16 +205,47 @@ fn run_child(
     Ok(ExitCode::SUCCESS)
 }
 
+/// One configuration's run against its snapshot at `path` (or, updating, written into it): the
+/// table's word for it and the departures that fail the run.
+fn hold_to_snapshot(
+    report: &Report,
+    expectations: &Expectations,
+    path: &Path,
+    update: bool,
+) -> Result<(String, Vec<String>)> {
+    let now = Snapshot::of(report, expectations);
+    let stored = Snapshot::load(path)?;
+    if update {
+        stored.unwrap_or_default().updated_with(&now).write(path)?;
+        return Ok(("written".to_owned(), Vec::new()));
+    }
+    let Some(stored) = stored else {
+        let missing = format!("no snapshot at {} (write it with --update-snapshots)", path.display());
+        return Ok(("missing".to_owned(), vec![missing]));
+    };
+    let departures = stored.departures(&now);
+    let verdict = if departures.is_empty() { "same".to_owned() } else { format!("{} differ", departures.len()) };
+    Ok((verdict, departures))
+}
+
 /// `check --matrix`: every configuration in its own process, each writing its JSON report, JUnit
 /// XML and log into the reports folder (and its own database run), then one table of them all
 /// and, with --html, one HTML matrix with a column per configuration.
-fn check_matrix(selector: &AdapterSelector, args: &CheckArgs, names: &str) -> Result<ExitCode> {
+fn check_matrix(
+    selector: &AdapterSelector,
+    args: &CheckArgs,
+    names: &str,
+    expectations: &Expectations,
+) -> Result<ExitCode> {
     check_selection_is_free(&selector.backend, &selector.adapter_name)?;
     anyhow::ensure!(
         args.json.is_none() && args.junit.is_none(),
         "with --matrix each configuration writes <reports>/<name>.json and <name>.junit.xml; drop --json/--junit"
     );
     let matrix = args.matrix.load()?;
+    if let Some(dir) = &args.snapshots {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating the snapshot folder {}", dir.display()))?;
+    }
     let reports = &args.matrix.reports;
     let report_path = |stem: &str| reports.join(format!("{stem}.json"));
     for configuration in matrix.select(names)? {
@@ -215,8 +255,10 @@ fn check_matrix(selector: &AdapterSelector, args: &CheckArgs, names: &str) -> Re
             std::fs::remove_file(&stale).with_context(|| format!("removing the old report {}", stale.display()))?;
         }
     }
-    let inherited =
-        arguments_without(&["--matrix", "--adapters-file", "--reports", "--out", "--html", "--backend", "--adapter"]);
+    let inherited = arguments_without(
+        &["--matrix", "--adapters-file", "--reports", "--out", "--html", "--backend", "--adapter", "--snapshots"],
+        &["--update-snapshots"],
+    );
     let runs = run_children(&matrix, names, reports, Show::Progress, |configuration| {
         let stem = configuration.file_stem();
         let mut arguments = inherited.clone();
@@ -236,6 +278,7 @@ fn check_matrix(selector: &AdapterSelector, args: &CheckArgs, names: &str) -> Re
         "known_issue".to_owned(),
         "not_supported".to_owned(),
         "unexpected".to_owned(),
+        "snapshot".to_owned(),
         "ending".to_owned(),
     ]];
     let mut details = Vec::new();
@@ -243,7 +286,7 @@ fn check_matrix(selector: &AdapterSelector, args: &CheckArgs, names: &str) -> Re
     for run in &runs {
         let name = run.configuration.name.clone();
         if matches!(run.end, ChildEnd::Absent(_)) {
-            table.push([name, "-".into(), "-".into(), "-".into(), "-".into(), "-".into(), run.ending()]);
+            table.push([name, "-".into(), "-".into(), "-".into(), "-".into(), "-".into(), "-".into(), run.ending()]);
             continue;
         }
         let path = report_path(&run.configuration.file_stem());
@@ -256,6 +299,7 @@ fn check_matrix(selector: &AdapterSelector, args: &CheckArgs, names: &str) -> Re
                 "-".into(),
                 "-".into(),
                 "no report".into(),
+                "-".into(),
                 run.ending(),
             ]);
             details.push(format!("{name}: no report ({}); the log ends:\n{}", run.ending(), log_tail(&run.log, 8)));
@@ -268,6 +312,20 @@ fn check_matrix(selector: &AdapterSelector, args: &CheckArgs, names: &str) -> Re
             let reason: String = case.reason.chars().take(240).collect();
             details.push(format!("{name}: {} {}: {reason}", case.run_name(), case.outcome.label()));
         }
+        let snapshot = match &args.snapshots {
+            Some(dir) => {
+                let (verdict, departures) = hold_to_snapshot(
+                    &report,
+                    expectations,
+                    &dir.join(format!("{}.json", run.configuration.file_stem())),
+                    args.update_snapshots,
+                )?;
+                failed |= !departures.is_empty();
+                details.extend(departures.iter().map(|line| format!("{name}: snapshot: {line}")));
+                verdict
+            }
+            None => "-".to_owned(),
+        };
         table.push([
             name.clone(),
             report.adapter.name.clone(),
@@ -275,6 +333,7 @@ fn check_matrix(selector: &AdapterSelector, args: &CheckArgs, names: &str) -> Re
             count(ReportedOutcome::KnownIssue),
             count(ReportedOutcome::NotSupported),
             unexpected.to_string(),
+            snapshot,
             run.ending(),
         ]);
         columns.push(Column { label: name, report });

@@ -29,7 +29,9 @@ pub struct CompareArgs {
     /// Smallest relative GPU-time change that counts as a regression (0.05: 5 % slower).
     #[arg(long, default_value_t = 0.05, value_parser = fraction)]
     threshold: f64,
-    /// Largest Mann–Whitney p-value, between two runs' repeats, that counts as beyond the noise.
+    /// Largest p-value (the Mann–Whitney test of two runs' repeats, or a single time's rank among
+    /// the database's earlier runs) that counts as beyond the noise. At 0.01 the repeats need 5 a
+    /// side (`check --repeat 5` for both runs); fewer are reported as "cannot judge".
     #[arg(long, default_value_t = 0.01, value_parser = fraction)]
     alpha: f64,
 }
@@ -56,9 +58,16 @@ fn load(which: &str, db: Option<&mut Database>) -> Result<(Report, Option<i64>)>
 }
 
 pub fn compare_reports(args: CompareArgs) -> Result<ExitCode> {
-    let mut db = args.db.as_deref().map(Database::open).transpose()?;
+    let mut db = args.db.as_deref().map(Database::open_existing).transpose()?;
     let (base, _) = load(&args.base, db.as_mut())?;
     let (new, new_id) = load(&args.new, db.as_mut())?;
+    // A run that ran nothing would compare as "no regressions".
+    for (which, name, report) in [("base", &args.base, &base), ("new", &args.new, &new)] {
+        anyhow::ensure!(
+            !report.cases.is_empty(),
+            "the {which} run {name} holds no case runs: there is nothing to compare"
+        );
+    }
     if base.adapter != new.adapter {
         eprintln!(
             "note: the runs are on different adapters ({} {} / {} {}); outcomes still compare case by case",

@@ -28,8 +28,16 @@ pub struct HistoryArgs {
 
 pub fn history(args: HistoryArgs) -> Result<()> {
     let adapter = glob::Pattern::new(&args.adapter).with_context(|| format!("--adapter {:?}", args.adapter))?;
-    let mut db = Database::open(&args.db)?;
+    let mut db = Database::open_existing(&args.db)?;
     let points = db.history(&args.case, &args.metric, &adapter)?;
+    // A mistyped case or metric would plot nothing and look like a quiet history.
+    anyhow::ensure!(!points.is_empty(), "no recorded run of {} on an adapter matching {:?}", args.case, args.adapter);
+    anyhow::ensure!(
+        points.iter().any(|p| p.value.is_some()),
+        "{} has no metric {:?} in any recorded run (gpu_ms, wall_ms, or a metric's dotted path, as `compare` lists them)",
+        args.case,
+        args.metric
+    );
     println!("| run | adapter | driver | {} |\n|---|---|---|---|", args.metric);
     let mut plotted: Vec<PlotLine> = Vec::new();
     for point in &points {

@@ -34,7 +34,7 @@ pub fn html(args: HtmlArgs) -> Result<()> {
         columns.push(Column { label: path.display().to_string(), report: Report::read(path)? });
     }
     if let Some(location) = &args.db {
-        let mut db = Database::open(location)?;
+        let mut db = Database::open_existing(location)?;
         let ids = if args.runs.is_empty() {
             db.latest_per_adapter()?
         } else {

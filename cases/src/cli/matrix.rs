@@ -62,12 +62,16 @@ impl ChildRun<'_> {
 }
 
 /// The command line this process was started with, after the program name, without the flags in
-/// `strip` (each with its value, as `--flag value` or `--flag=value`).
-pub fn arguments_without(strip: &[&str]) -> Vec<OsString> {
+/// `strip` (each with its value, as `--flag value` or `--flag=value`) and the `switches` (flags
+/// without a value).
+pub fn arguments_without(strip: &[&str], switches: &[&str]) -> Vec<OsString> {
     let mut kept = Vec::new();
     let mut arguments = std::env::args_os().skip(1);
     while let Some(argument) = arguments.next() {
         let text = argument.to_string_lossy();
+        if switches.iter().any(|flag| text == *flag) {
+            continue;
+        }
         if strip.iter().any(|flag| text == *flag) {
             arguments.next();
         } else if !strip.iter().any(|flag| text.starts_with(&format!("{flag}="))) {
@@ -169,7 +173,7 @@ pub fn run_each_showing_output(
     let matrix = args.load()?;
     let reports = &args.reports;
     let inherited =
-        arguments_without(&["--matrix", "--adapters-file", "--reports", "--json", "--backend", "--adapter"]);
+        arguments_without(&["--matrix", "--adapters-file", "--reports", "--json", "--backend", "--adapter"], &[]);
     let runs = run_children(&matrix, names, reports, Show::Logs, |configuration| {
         let mut arguments = inherited.clone();
         let json = reports.join(format!("{}.{command}.json", configuration.file_stem()));

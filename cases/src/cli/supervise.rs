@@ -110,7 +110,7 @@ pub fn supervise(
                             for sink in sinks.iter_mut() {
                                 sink.start(&adapter, done + count)?;
                             }
-                            report = Some(Report { adapter, cases: Vec::new(), diagnostics: Vec::new() });
+                            report = Some(Report { adapter, cases: Vec::new(), diagnostics: Vec::new(), shard: None });
                         }
                     }
                     StreamLine::Record(record) => {

@@ -7,8 +7,8 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use super::noise::{mann_whitney_p, median_and_spread};
-use super::report::{CaseRecord, Report, ReportedOutcome};
+use super::noise::mann_whitney_p;
+use super::report::{CaseRecord, Report, ReportedOutcome, is_timing_metric};
 
 /// One case run present in both reports whose outcome differs.
 #[derive(Clone, Debug, PartialEq)]
@@ -28,38 +28,46 @@ pub struct MetricChange {
     pub new: f64,
 }
 
-/// Both runs' repeats, compared: the Mann–Whitney p-value.
+/// Both runs' repeats, compared: the Mann–Whitney p-value, and the smallest p these numbers of
+/// repeats can give (2 / C(m + n, m): 0.1 for 3 against 3), which must lie below `--alpha` for
+/// the test to judge at all.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RepeatsTest {
     pub p: f64,
+    pub smallest_p: f64,
     pub base_runs: usize,
     pub new_runs: usize,
 }
 
-/// Earlier runs of the case on the adapter: their median and spread (scaled MAD), and how many
-/// spreads the new time lies from that median. It catches what repeats within a run cannot: the
-/// drift between runs (another day, another machine state).
+/// Earlier runs of the case on the adapter, and where the new time ranks among them: under no
+/// change it is one more draw of the same distribution, so the share of earlier times at least as
+/// far out is its p-value (two-sided, (1 + k) / (n + 1) doubled), whatever the distribution. It
+/// catches what repeats within a run cannot: the drift between runs (another day, another
+/// machine state); it needs 2 / alpha − 1 earlier runs to judge at all.
 #[derive(Clone, Debug, PartialEq)]
-pub struct HistorySpread {
+pub struct HistoryRank {
     pub runs: usize,
     pub median_ms: f64,
-    pub spread_ms: f64,
-    pub spreads: f64,
+    pub p: f64,
+    pub smallest_p: f64,
 }
 
-/// What a GPU-time change was judged against: each that is available must call it beyond the
-/// noise; neither (one time each, no history) leaves a ratio, not a judgement.
+/// What a GPU-time change was judged against. Each test that can reach `--alpha` must call it
+/// beyond the noise; `not_judged` says why no test was asked (a failing case, a cold time against
+/// a warm median), and a test that cannot reach alpha says so in the verdict.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TimeEvidence {
     pub repeats: Option<RepeatsTest>,
-    pub history: Option<HistorySpread>,
-    /// False where one run has repeats (a warm median) and the other a single, cold time.
-    pub comparable: bool,
+    pub history: Option<HistoryRank>,
+    pub not_judged: Option<String>,
 }
 
 impl TimeEvidence {
-    pub fn judged(&self) -> bool {
-        self.repeats.is_some() || self.history.is_some()
+    /// Whether some test could call a change beyond the noise at `alpha`.
+    pub fn can_judge(&self, alpha: f64) -> bool {
+        self.not_judged.is_none()
+            && (self.repeats.as_ref().is_some_and(|r| r.smallest_p < alpha)
+                || self.history.as_ref().is_some_and(|h| h.smallest_p < alpha))
     }
 }
 
@@ -69,6 +77,8 @@ pub struct TimeChange {
     pub base_ms: f64,
     pub new_ms: f64,
     pub evidence: TimeEvidence,
+    /// Whether the evidence could judge at the comparison's alpha.
+    pub judged: bool,
     /// Slower beyond the threshold and beyond the noise.
     pub regression: bool,
     /// Faster beyond the threshold and beyond the noise.
@@ -86,22 +96,36 @@ impl TimeChange {
 pub struct TimeJudgement {
     /// Smallest relative change that counts (0.05: 5 % slower or faster).
     pub threshold: f64,
-    /// Largest Mann–Whitney p-value that counts as beyond the noise.
+    /// Largest p-value (repeats' Mann–Whitney, or the history's rank) that counts as beyond the
+    /// noise.
     pub alpha: f64,
-    /// Against history: spreads (scaled MADs) from the history's median that count.
-    pub spreads: f64,
 }
 
 impl Default for TimeJudgement {
     fn default() -> Self {
-        Self { threshold: 0.05, alpha: 0.01, spreads: 3.0 }
+        Self { threshold: 0.05, alpha: 0.01 }
     }
 }
 
-/// Repeats a comparison needs on each side before it judges by them.
-const MIN_REPEATS: usize = 3;
-/// Earlier runs a history needs before it judges by it.
-const MIN_HISTORY: usize = 3;
+/// The smallest two-sided Mann–Whitney p-value samples of `m` and `n` untied values can give.
+pub fn smallest_repeats_p(m: usize, n: usize) -> f64 {
+    // C(m + n, m), in floating point (it overflows nothing that matters: the p is then tiny).
+    let orders = (1..=m).fold(1.0f64, |c, i| c * (n + i) as f64 / i as f64);
+    (2.0 / orders).min(1.0)
+}
+
+/// Repeats each run needs for the Mann–Whitney test to reach below `alpha`.
+pub fn repeats_needed(alpha: f64) -> usize {
+    (1..).find(|&n| smallest_repeats_p(n, n) < alpha).expect("some number of repeats reaches any alpha > 0")
+}
+
+/// The history's two-sided rank p-value of `new` among `earlier`.
+fn rank_p(earlier: &[f64], new: f64) -> f64 {
+    let n = earlier.len() as f64;
+    let at_least = earlier.iter().filter(|&&t| t >= new).count() as f64;
+    let at_most = earlier.iter().filter(|&&t| t <= new).count() as f64;
+    (2.0 * (1.0 + at_least.min(at_most)) / (n + 1.0)).min(1.0)
+}
 
 impl TimeJudgement {
     /// Judges `base` → `new` for one case run; `history` holds earlier runs' GPU times of it on
@@ -111,44 +135,61 @@ impl TimeJudgement {
         if base_ms <= 0.0 || new_ms <= 0.0 {
             return None;
         }
+        let unjudged = |why: String| TimeChange {
+            case: case.to_owned(),
+            base_ms,
+            new_ms,
+            evidence: TimeEvidence { not_judged: Some(why), ..Default::default() },
+            judged: false,
+            regression: false,
+            improvement: false,
+        };
+        // A failing case's time measures whatever it did before failing: its outcome is the news.
+        for (which, record) in [("base", base), ("new", new)] {
+            if record.outcome.is_failure(false) {
+                return Some(unjudged(format!("the case is {} in the {which} run", record.outcome.label())));
+            }
+        }
         // A run's first time includes compiling its pipelines (tens of ms on a CPU driver); a
         // median of repeats is a warm time. Only like is judged against like.
         if base.gpu_ms_repeats.is_empty() != new.gpu_ms_repeats.is_empty() {
-            return Some(TimeChange {
-                case: case.to_owned(),
-                base_ms,
-                new_ms,
-                evidence: TimeEvidence { repeats: None, history: None, comparable: false },
-                regression: false,
-                improvement: false,
-            });
+            return Some(unjudged("not comparable: a warm median of repeats against a single cold time".to_owned()));
         }
         let ratio = new_ms / base_ms;
         let (slower, faster) = (ratio > 1.0 + self.threshold, ratio < 1.0 / (1.0 + self.threshold));
         let (base_runs, new_runs) = (base.gpu_ms_repeats.len(), new.gpu_ms_repeats.len());
-        let repeats = (base_runs >= MIN_REPEATS && new_runs >= MIN_REPEATS).then(|| RepeatsTest {
+        let repeats = (base_runs > 1 && new_runs > 1).then(|| RepeatsTest {
             p: mann_whitney_p(&base.gpu_ms_repeats, &new.gpu_ms_repeats),
+            smallest_p: smallest_repeats_p(base_runs, new_runs),
             base_runs,
             new_runs,
         });
-        let history = (history.len() >= MIN_HISTORY).then(|| {
-            let (median_ms, spread_ms) = median_and_spread(history);
-            let spreads = if spread_ms > 0.0 { (new_ms - median_ms) / spread_ms } else { f64::INFINITY };
-            HistorySpread { runs: history.len(), median_ms, spread_ms, spreads }
+        let history = (!history.is_empty()).then(|| HistoryRank {
+            runs: history.len(),
+            median_ms: median(history),
+            p: rank_p(history, new_ms),
+            smallest_p: (2.0 / (history.len() as f64 + 1.0)).min(1.0),
         });
-        let evidence = TimeEvidence { repeats, history, comparable: true };
-        let beyond_noise = evidence.judged()
-            && evidence.repeats.as_ref().is_none_or(|r| r.p < self.alpha)
-            && evidence.history.as_ref().is_none_or(|h| (new_ms - h.median_ms).abs() > self.spreads * h.spread_ms);
+        let evidence = TimeEvidence { repeats, history, not_judged: None };
+        let judged = evidence.can_judge(self.alpha);
+        // Every test that can reach alpha must call it beyond the noise.
+        let beyond_noise = judged
+            && evidence.repeats.as_ref().is_none_or(|r| r.smallest_p >= self.alpha || r.p < self.alpha)
+            && evidence.history.as_ref().is_none_or(|h| h.smallest_p >= self.alpha || h.p < self.alpha);
         Some(TimeChange {
             case: case.to_owned(),
             base_ms,
             new_ms,
             evidence,
+            judged,
             regression: slower && beyond_noise,
             improvement: faster && beyond_noise,
         })
     }
+}
+
+fn median(values: &[f64]) -> f64 {
+    crate::query::median(values.to_vec())
 }
 
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -164,6 +205,8 @@ pub struct Comparison {
     pub metric_changes: Vec<MetricChange>,
     /// Per case run in both with GPU times: the change and its judgement.
     pub time_changes: Vec<TimeChange>,
+    /// The alpha the times were judged at.
+    pub alpha: f64,
 }
 
 impl Comparison {
@@ -199,6 +242,7 @@ pub fn compare(base: &Report, new: &Report, judgement: &TimeJudgement, history: 
     let mut comparison = Comparison {
         only_in_base: base_cases.keys().filter(|k| !new_cases.contains_key(*k)).cloned().collect(),
         only_in_new: new_cases.keys().filter(|k| !base_cases.contains_key(*k)).cloned().collect(),
+        alpha: judgement.alpha,
         ..Default::default()
     };
     for (case, now) in &new_cases {
@@ -217,7 +261,9 @@ pub fn compare(base: &Report, new: &Report, judgement: &TimeJudgement, history: 
             }
         }
         let (then, current) = (before.numeric_metrics(), now.numeric_metrics());
-        for (metric, &value) in &current {
+        // Timings change every run; GPU time is judged below, against the noise.
+        let timing = |metric: &str| is_timing_metric(metric.split('.').next().unwrap_or(metric));
+        for (metric, &value) in current.iter().filter(|(metric, _)| !timing(metric)) {
             if let Some(&old) = then.get(metric)
                 && old.to_bits() != value.to_bits()
             {
@@ -286,16 +332,25 @@ impl Comparison {
         if self.time_changes.is_empty() {
             return;
         }
-        let judged = |t: &&TimeChange| t.evidence.judged();
+        let judged = self.time_changes.iter().filter(|t| t.judged).count();
         let _ = writeln!(
             md,
-            "### GPU time\n\n{} case runs timed in both: {} slower and {} faster beyond the threshold and the noise; {} judged, {} with one time each and no history (run `check --repeat N`, or record runs in a database).\n",
+            "### GPU time\n\n{} case runs timed in both: {} slower and {} faster beyond the threshold and the noise; {judged} judged, {} that could not be.\n",
             self.time_changes.len(),
             self.time_changes.iter().filter(|t| t.regression).count(),
             self.time_changes.iter().filter(|t| t.improvement).count(),
-            self.time_changes.iter().filter(judged).count(),
-            self.time_changes.iter().filter(|t| !judged(t)).count(),
+            self.time_changes.len() - judged,
         );
+        if judged < self.time_changes.len() {
+            let _ = writeln!(
+                md,
+                "**Not every time could be judged**: at --alpha {} the repeats need {} runs a side (`check --repeat {}` for both runs), a history {} earlier runs; a time that could not be judged is no verdict of \"within noise\".\n",
+                self.alpha,
+                repeats_needed(self.alpha),
+                repeats_needed(self.alpha),
+                (2.0 / self.alpha).ceil() as usize - 1
+            );
+        }
         let mut shown: Vec<&TimeChange> = self.time_changes.iter().filter(|t| t.regression || t.improvement).collect();
         shown.sort_by(|a, b| b.ratio().total_cmp(&a.ratio()));
         if shown.is_empty() {
@@ -308,25 +363,29 @@ impl Comparison {
             writeln!(md, "| case | base ms | new ms | new / base | judged by | verdict |\n|---|---|---|---|---|---|");
         for t in shown {
             let mut judged_by = Vec::new();
-            if let Some(RepeatsTest { p, base_runs, new_runs }) = &t.evidence.repeats {
-                judged_by.push(format!("{base_runs} vs {new_runs} repeats, Mann–Whitney p = {p:.2e}"));
+            if let Some(RepeatsTest { p, smallest_p, base_runs, new_runs }) = &t.evidence.repeats {
+                let reach =
+                    if *smallest_p >= self.alpha { format!(" (p ≥ {smallest_p:.3} at best)") } else { String::new() };
+                judged_by.push(format!("{base_runs} vs {new_runs} repeats, Mann–Whitney p = {p:.2e}{reach}"));
             }
-            if let Some(HistorySpread { runs, median_ms, spread_ms, spreads }) = &t.evidence.history {
-                judged_by.push(format!(
-                    "{runs} earlier runs: median {median_ms:.3} ms ± {spread_ms:.3}, {spreads:+.1} spreads"
-                ));
+            if let Some(HistoryRank { runs, median_ms, p, smallest_p }) = &t.evidence.history {
+                let reach =
+                    if *smallest_p >= self.alpha { format!(" (p ≥ {smallest_p:.3} at best)") } else { String::new() };
+                judged_by.push(format!("{runs} earlier runs, median {median_ms:.3} ms: rank p = {p:.2e}{reach}"));
             }
-            let judged_by = match (judged_by.is_empty(), t.evidence.comparable) {
-                (_, false) => "not comparable: a warm median of repeats against a single cold time".to_owned(),
-                (true, true) => "one time each".to_owned(),
-                (false, true) => judged_by.join("; "),
+            let judged_by = match (&t.evidence.not_judged, judged_by.is_empty()) {
+                (Some(why), _) => why.clone(),
+                (None, true) => "one time each, no history".to_owned(),
+                (None, false) => judged_by.join("; "),
             };
             let verdict = if t.regression {
                 "**slower**"
             } else if t.improvement {
                 "faster"
-            } else {
+            } else if t.judged {
                 "within noise"
+            } else {
+                "cannot judge"
             };
             let _ = writeln!(
                 md,
@@ -363,7 +422,7 @@ mod tests {
     }
 
     fn report(cases: Vec<CaseRecord>) -> Report {
-        Report { adapter: AdapterDescription::default(), cases, diagnostics: Vec::new() }
+        Report { adapter: AdapterDescription::default(), cases, diagnostics: Vec::new(), shard: None }
     }
 
     #[test]
@@ -429,20 +488,67 @@ mod tests {
     }
 
     #[test]
-    fn single_times_are_judged_against_the_history_or_not_at_all() {
-        let history = [10.0, 10.3, 9.8, 10.1, 9.9];
-        assert!(judge(&[10.0], &[13.0], &history).regression);
-        assert!(!judge(&[10.0], &[10.4], &history).regression);
-        // A history this noisy holds 13 ms within its spread.
-        assert!(!judge(&[10.0], &[13.0], &[6.0, 14.0, 9.0, 13.5, 7.0]).regression);
+    fn single_times_are_judged_by_their_rank_in_a_history_long_enough_for_alpha() {
+        // 250 earlier runs between 9.8 and 10.3 ms: a 13 ms time outranks them all (p = 2/251).
+        let steady: Vec<f64> = (0..250).map(|i| 9.8 + 0.5 * f64::from(i % 50) / 49.0).collect();
+        assert!(judge(&[10.0], &[13.0], &steady).regression);
+        assert!(!judge(&[10.0], &[10.2], &steady).regression);
+        // A history this noisy holds 13 ms within it.
+        let noisy: Vec<f64> = (0..250).map(|i| 6.0 + 9.0 * f64::from(i % 50) / 49.0).collect();
+        let change = judge(&[10.0], &[13.0], &noisy);
+        assert!(change.judged && !change.regression, "{change:?}");
+        // Five earlier runs cannot reach p < 0.01 (at best 2/6): no verdict, and it says so.
+        let short = judge(&[10.0], &[40.0], &[10.0, 10.3, 9.8, 10.1, 9.9]);
+        assert!(!short.judged && !short.regression, "{short:?}");
         let unjudged = judge(&[10.0], &[20.0], &[]);
-        assert_eq!(
-            (unjudged.evidence, unjudged.regression),
-            (TimeEvidence { comparable: true, ..Default::default() }, false)
-        );
+        assert_eq!((unjudged.evidence, unjudged.judged, unjudged.regression), (TimeEvidence::default(), false, false));
         // A cold single time against a warm median is not judged at all.
-        let mixed = judge(&[10.0, 10.1, 9.9], &[40.0], &history);
-        assert!(!mixed.evidence.comparable && !mixed.regression);
+        let mixed = judge(&[10.0, 10.1, 9.9], &[40.0], &steady);
+        assert!(mixed.evidence.not_judged.is_some() && !mixed.regression);
+    }
+
+    #[test]
+    fn too_few_repeats_for_alpha_cannot_judge_and_say_what_would() {
+        assert_eq!(smallest_repeats_p(3, 3), 0.1);
+        assert!((smallest_repeats_p(5, 5) - 2.0 / 252.0).abs() < 1e-15);
+        assert_eq!(repeats_needed(0.01), 5);
+        assert_eq!(repeats_needed(0.05), 4);
+        // Four times slower on every one of 3 repeats: p = 0.1 at best, no verdict at 0.01.
+        let base = [10.0, 10.2, 9.9];
+        let slower: Vec<f64> = base.iter().map(|t| t * 4.0).collect();
+        let c = compare(
+            &report(vec![timed(&base)]),
+            &report(vec![timed(&slower)]),
+            &TimeJudgement::default(),
+            &GpuHistory::default(),
+        );
+        assert!(!c.time_changes[0].judged && !c.regressed(), "{:?}", c.time_changes[0]);
+        let md = c.markdown("base", "new");
+        assert!(
+            md.contains("| cannot judge |") && md.contains("--repeat 5") && !md.contains("| within noise |"),
+            "{md}"
+        );
+        // 1.5 times slower on 5 repeats each: judged, a regression.
+        let base = [10.0, 10.2, 9.9, 10.1, 10.05];
+        let slower: Vec<f64> = base.iter().map(|t| t * 1.5).collect();
+        assert!(judge(&base, &slower, &[]).regression);
+    }
+
+    #[test]
+    fn a_failing_cases_time_and_timing_metrics_are_no_changes() {
+        use ReportedOutcome::*;
+        let mut base = record("a", Pass, 1.0);
+        base.metrics.insert("equal_ms".into(), serde_json::json!(3.0));
+        let mut new = CaseRecord { outcome: Fail, gpu_ms: Some(62.0), ..record("a", Pass, 1.0) };
+        new.metrics.insert("equal_ms".into(), serde_json::json!(5.0));
+        let c = compare(&report(vec![base]), &report(vec![new]), &TimeJudgement::default(), &GpuHistory::default());
+        assert!(c.metric_changes.is_empty(), "{:?}", c.metric_changes);
+        let time = &c.time_changes[0];
+        assert!(
+            !time.judged && time.evidence.not_judged.as_deref() == Some("the case is FAIL in the new run"),
+            "{time:?}"
+        );
+        assert!(c.markdown("b", "n").contains("the case is FAIL in the new run"));
     }
 
     #[test]
@@ -450,10 +556,13 @@ mod tests {
         let base = [10.0, 10.1, 9.9, 10.02, 10.05, 9.95, 10.08];
         let new: Vec<f64> = base.iter().map(|t| t * 1.1).collect();
         // Within the run, 10 % slower is clear; but earlier runs wandered as far.
-        let wandering = [9.0, 11.5, 10.0, 12.0, 8.5];
+        let wandering: Vec<f64> = (0..250).map(|i| 8.5 + 3.5 * f64::from(i % 50) / 49.0).collect();
         let change = judge(&base, &new, &wandering);
         assert!(change.evidence.repeats.as_ref().unwrap().p < 0.01 && !change.regression, "{change:?}");
         // A steady history confirms it.
-        assert!(judge(&base, &new, &[10.0, 10.1, 9.95, 10.05]).regression);
+        let steady: Vec<f64> = (0..250).map(|i| 9.95 + 0.1 * f64::from(i % 50) / 49.0).collect();
+        assert!(judge(&base, &new, &steady).regression);
+        // A history too short for alpha leaves the repeats to judge.
+        assert!(judge(&base, &new, &[9.0, 11.5, 10.0, 12.0, 8.5]).regression);
     }
 }

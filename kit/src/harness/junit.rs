@@ -152,6 +152,7 @@ mod tests {
                 record("cps.e", ReportedOutcome::Flaky, "failed, then pass"),
             ],
             diagnostics: Vec::new(),
+            shard: None,
         };
         let xml = to_junit(&report, false);
         assert!(xml.contains("tests=\"4\" failures=\"1\" errors=\"0\" skipped=\"1\""));
@@ -185,14 +186,14 @@ mod tests {
         ]
         .into_iter()
         .enumerate()
-        .map(|(i, outcome)| record(&format!("kit.case{i}"), outcome, "why <1> & \u{7} \"two\"\nlines"))
+        .map(|(i, outcome)| record(&format!("kit.case{i}"), outcome, "why <1> & \u{7} \u{FFFE}\u{FFFF} \"two\"\nlines"))
         .collect();
         // A sweep: one case run twice with different parameters.
         cases.push(CaseRecord {
             params: [("n".to_owned(), super::super::params::ParamValue::Count(2))].into(),
             ..record("kit.case0", ReportedOutcome::Pass, "")
         });
-        let report = Report { adapter: AdapterDescription::default(), cases, diagnostics: Vec::new() };
+        let report = Report { adapter: AdapterDescription::default(), cases, diagnostics: Vec::new(), shard: None };
         let schema = concat!(env!("CARGO_MANIFEST_DIR"), "/src/harness/junit.xsd");
         for flaky_fails in [false, true] {
             let path = std::env::temp_dir().join(format!("fragkit-junit-{}-{flaky_fails}.xml", std::process::id()));

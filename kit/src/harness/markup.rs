@@ -1,7 +1,7 @@
 //! Text from reports (reasons, case names, driver messages) made safe inside the markup the kit
 //! writes: JUnit XML and the HTML report.
 
-/// Escapes text for an XML or HTML attribute or element (and drops the control characters XML 1.0
+/// Escapes text for an XML or HTML attribute or element (and replaces the characters XML 1.0
 /// forbids).
 pub fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
@@ -13,7 +13,9 @@ pub fn escape(text: &str) -> String {
             '"' => out.push_str("&quot;"),
             '\'' => out.push_str("&apos;"),
             '\t' | '\n' | '\r' => out.push(c),
-            c if (c as u32) < 0x20 => {}
+            // What XML 1.0 has no character for (controls, the surrogates Rust never holds,
+            // U+FFFE and U+FFFF) is shown as the replacement character, never written.
+            c if (c as u32) < 0x20 || c == '\u{FFFE}' || c == '\u{FFFF}' => out.push('\u{FFFD}'),
             c => out.push(c),
         }
     }
@@ -27,6 +29,6 @@ mod tests {
     #[test]
     fn text_from_reports_cannot_open_tags() {
         assert_eq!(escape("<img src=x onerror=\"a&b\">"), "&lt;img src=x onerror=&quot;a&amp;b&quot;&gt;");
-        assert_eq!(escape("it's\u{7}"), "it&apos;s");
+        assert_eq!(escape("it's\u{7}\u{FFFE}"), "it&apos;s\u{FFFD}\u{FFFD}");
     }
 }

@@ -17,6 +17,7 @@ pub mod params;
 pub mod report;
 pub mod run;
 pub mod runner;
+pub mod snapshot;
 pub mod stream;
 pub mod sweep;
 

@@ -9,6 +9,7 @@ use anyhow::{Context, Result, bail};
 use serde::{Deserialize, Serialize};
 
 use super::params::ParamValue;
+use super::run::Shard;
 use crate::gpu::AdapterDescription;
 
 /// A case's outcome as reported, after the expectations file was applied.
@@ -86,6 +87,16 @@ fn one() -> u32 {
 }
 
 /// Every number (booleans as 0/1) in a metric value, by dotted path (`a.b.0`).
+/// Metrics that are timings, by their top-level name: they vary run to run, so snapshots leave
+/// them out and `compare` judges GPU times by the noise instead of listing them as changes.
+const TIMING_METRICS: &[&str] =
+    &["equal_ms", "always_ms", "time_ratio", "level0_ms", "foveated_lighting", "probe_time_ratio"];
+
+/// Whether a top-level metric is a timing (listed, or named `*_ms`).
+pub fn is_timing_metric(name: &str) -> bool {
+    TIMING_METRICS.contains(&name) || name.ends_with("_ms")
+}
+
 fn flatten_metric(path: &str, value: &serde_json::Value, out: &mut BTreeMap<String, f64>) {
     match value {
         serde_json::Value::Number(n) => out.extend(n.as_f64().map(|f| (path.to_owned(), f))),
@@ -129,6 +140,40 @@ pub struct Report {
     /// Warnings and errors logged before the first case (opening the device, e.g. EGL's).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub diagnostics: Vec<String>,
+    /// Which shard of a run this is (`check --shard K/N`): `merge` joins only a whole set.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<Shard>,
+}
+
+/// Refuses shards that are not one whole set: a report of a shard beside one that is none, shards
+/// of different counts, one shard twice, or one missing (the run would look complete).
+fn check_whole_set_of_shards(reports: &[(PathBuf, Report)]) -> Result<()> {
+    let shards: Vec<(&PathBuf, Option<Shard>)> = reports.iter().map(|(path, r)| (path, r.shard)).collect();
+    let Some(count) = shards.iter().find_map(|(_, shard)| shard.map(|s| s.count)) else {
+        return Ok(());
+    };
+    let mut seen = vec![None; count as usize];
+    for (path, shard) in &shards {
+        let Some(shard) = shard else {
+            bail!("{} is no shard's report (no --shard), the others are shards of {count}", path.display());
+        };
+        if shard.count != count {
+            bail!("{} is shard {}/{}, the others are shards of {count}", path.display(), shard.index, shard.count);
+        }
+        if let Some(earlier) = seen[shard.index as usize - 1].replace(*path) {
+            bail!("{} and {} are both shard {}/{count}", earlier.display(), path.display(), shard.index);
+        }
+    }
+    let missing: Vec<String> =
+        (1..=count).filter(|k| seen[*k as usize - 1].is_none()).map(|k| format!("{k}/{count}")).collect();
+    if !missing.is_empty() {
+        bail!(
+            "shard {} missing: {} of {count} shards given, and a merge of part of a run would pass for the whole",
+            missing.join(", "),
+            count as usize - missing.len()
+        );
+    }
+    Ok(())
 }
 
 impl Report {
@@ -145,11 +190,13 @@ impl Report {
     }
 
     /// One report from the shards of a run: every report of the same adapter, no case run with
-    /// the same parameters twice.
+    /// the same parameters twice, and of reports that say which shard they are (`check --shard`
+    /// writes it), every shard 1..=N once.
     pub fn merge(reports: Vec<(PathBuf, Report)>) -> Result<Self> {
         let Some((first_path, first)) = reports.first() else {
             bail!("nothing to merge: give the shards' reports");
         };
+        check_whole_set_of_shards(&reports)?;
         let adapter = first.adapter.clone();
         let mut cases: Vec<CaseRecord> = Vec::new();
         for (path, report) in &reports {
@@ -179,7 +226,7 @@ impl Report {
         }
         // Each shard opened its own device: their opening records, one after another.
         let diagnostics = reports.iter().flat_map(|(_, r)| r.diagnostics.iter().cloned()).collect();
-        Ok(Self { adapter, cases, diagnostics })
+        Ok(Self { adapter, cases, diagnostics, shard: None })
     }
 
     /// Writes the report through a temporary file and a rename, so that an interrupted run never

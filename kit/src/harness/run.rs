@@ -48,7 +48,7 @@ pub fn plan_runs<'c>(
 }
 
 /// Shard `index` of `count` (1-based, as `--shard K/N` spells it).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Shard {
     pub index: u32,
     pub count: u32,
@@ -137,7 +137,8 @@ pub fn run(mut gpu: Gpu, runs: &[CaseRun], options: &RunOptions, sinks: &mut [&m
         sink.start(&gpu.description, runs.len())?;
     }
     // What opening the device logged (EGL probing a missing DRI driver, say) belongs to the run.
-    let mut report = Report { adapter: gpu.description.clone(), cases: Vec::new(), diagnostics: diagnostics::take() };
+    let mut report =
+        Report { adapter: gpu.description.clone(), cases: Vec::new(), diagnostics: diagnostics::take(), shard: None };
     for run in runs {
         let mut record = run_case(&gpu, run.case, &run.overrides, options.expectations, options.evidence_dir);
         while record.outcome == ReportedOutcome::Fail && record.attempts <= options.retries && gpu.lost().is_none() {
@@ -190,11 +191,16 @@ pub fn run(mut gpu: Gpu, runs: &[CaseRun], options: &RunOptions, sinks: &mut [&m
 /// Writes the JSON report when the run finishes (atomically).
 pub struct JsonSink<'a> {
     pub path: &'a Path,
+    /// The run's shard, written into the report for `merge`.
+    pub shard: Option<Shard>,
 }
 
 impl Sink for JsonSink<'_> {
     fn finish(&mut self, report: &Report) -> Result<()> {
-        report.write_atomically(self.path)
+        match self.shard {
+            Some(shard) => Report { shard: Some(shard), ..report.clone() }.write_atomically(self.path),
+            None => report.write_atomically(self.path),
+        }
     }
 }
 

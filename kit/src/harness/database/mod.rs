@@ -11,6 +11,7 @@ pub mod store;
 
 use anyhow::{Context, Result, bail};
 
+pub use self::store::{Access, Location};
 use self::store::{Dialect, Row, Store, Transaction, redact};
 use super::compare::GpuHistory;
 use super::report::{CaseRecord, Report, ReportedOutcome, run_name};
@@ -174,10 +175,20 @@ fn adapter_label(name: &str, backend: &str) -> String {
 }
 
 impl Database {
-    /// Opens `location` — an SQLite file (created where missing) or a `postgres://` URL — and
-    /// migrates it to this kit's schema.
+    /// Opens `location` (`--db`: an SQLite file, created where missing, or a PostgreSQL server;
+    /// `Location::parse`) to record runs, and migrates it to this kit's schema.
     pub fn open(location: &str) -> Result<Self> {
-        let store = Store::open(location)?;
+        Self::open_for(location, Access::Record)
+    }
+
+    /// Opens `location` to read runs only: a missing SQLite file is an error, not created.
+    pub fn open_existing(location: &str) -> Result<Self> {
+        Self::open_for(location, Access::Read)
+    }
+
+    fn open_for(location: &str, access: Access) -> Result<Self> {
+        let parsed = Location::parse(location)?;
+        let store = Store::open(&parsed, access)?;
         let mut database = Self { store, location: redact(location) };
         database.migrate()?;
         Ok(database)
@@ -335,7 +346,7 @@ impl Database {
                 &[id.into()],
             )?;
             let cases = rows.iter().map(|row| case_record(row, id, &location)).collect::<Result<_>>()?;
-            Ok(Report { adapter, cases, diagnostics: Vec::new() })
+            Ok(Report { adapter, cases, diagnostics: Vec::new(), shard: None })
         })
     }
 
@@ -529,6 +540,7 @@ mod tests {
                 diagnostics: Vec::new(),
             }],
             diagnostics: Vec::new(),
+            shard: None,
         }
     }
 

@@ -99,23 +99,110 @@ pub enum Store {
     Postgres(Box<postgres::Client>),
 }
 
-/// Whether `location` names a PostgreSQL server rather than an SQLite file.
-pub fn is_postgres_url(location: &str) -> bool {
-    location.starts_with("postgres://") || location.starts_with("postgresql://")
+/// Where a results database is, parsed from `--db`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Location {
+    /// An SQLite file: a plain path, or `sqlite:PATH` / `sqlite://PATH`.
+    Sqlite(std::path::PathBuf),
+    /// A PostgreSQL server: a `postgres://` or `postgresql://` URL (any case), or a libpq
+    /// `key=value` connection string (`host=… dbname=…`).
+    Postgres(String),
+}
+
+impl Location {
+    /// Parses `--db`: by scheme where there is one (an unknown scheme is refused, not taken for a
+    /// file name), a libpq `key=value` string, else an SQLite path. Never echoes a password.
+    pub fn parse(text: &str) -> Result<Self> {
+        if text.trim().is_empty() {
+            bail!("--db is empty: give an SQLite file's path or a postgres:// URL");
+        }
+        if let Some((scheme, rest)) = text.split_once("://")
+            && !scheme.is_empty()
+            && scheme.chars().all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c))
+        {
+            return match scheme.to_ascii_lowercase().as_str() {
+                "postgres" | "postgresql" => Ok(Self::Postgres(format!("postgresql://{rest}"))),
+                "sqlite" | "file" if !rest.is_empty() => Ok(Self::Sqlite(rest.into())),
+                other => bail!(
+                    "--db {}: a {other}:// database is not one fragkit records into; give an SQLite file's path or a postgres:// URL",
+                    redact(text)
+                ),
+            };
+        }
+        if let Some(path) = text.strip_prefix("sqlite:") {
+            anyhow::ensure!(!path.is_empty(), "--db sqlite: names no file");
+            return Ok(Self::Sqlite(path.into()));
+        }
+        if looks_like_libpq_keywords(text) {
+            return Ok(Self::Postgres(text.to_owned()));
+        }
+        Ok(Self::Sqlite(text.into()))
+    }
+}
+
+/// Whether `text` is a libpq keyword/value connection string: words `key=value` separated by
+/// spaces, the first key a libpq keyword.
+fn looks_like_libpq_keywords(text: &str) -> bool {
+    const KEYWORDS: &[&str] = &[
+        "host",
+        "hostaddr",
+        "port",
+        "dbname",
+        "user",
+        "password",
+        "sslmode",
+        "connect_timeout",
+        "application_name",
+        "options",
+    ];
+    text.split_whitespace().next().and_then(|word| word.split_once('=')).is_some_and(|(key, _)| KEYWORDS.contains(&key))
+}
+
+/// How a command uses the database: a run records into it (an SQLite file is created where
+/// missing, and must be writable and whole before the run starts), a reader reads what is there
+/// (a missing file is an error, never created; a reader, too, brings an older schema up to date).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Access {
+    Record,
+    Read,
 }
 
 impl Store {
-    /// Connects to `location`: a `postgres://` URL, else an SQLite file (created where missing).
-    pub fn open(location: &str) -> Result<Self> {
-        if is_postgres_url(location) {
-            let client = postgres::Client::connect(location, postgres::NoTls)
-                .with_context(|| format!("connecting to the results database {}", redact(location)))?;
-            return Ok(Self::Postgres(Box::new(client)));
-        }
-        let connection =
-            rusqlite::Connection::open(location).with_context(|| format!("opening the results database {location}"))?;
+    /// Connects to `location` for `access`.
+    pub fn open(location: &Location, access: Access) -> Result<Self> {
+        let path = match location {
+            Location::Postgres(conninfo) => {
+                let client = postgres::Client::connect(conninfo, postgres::NoTls)
+                    .with_context(|| format!("connecting to the results database {}", redact(conninfo)))?;
+                return Ok(Self::Postgres(Box::new(client)));
+            }
+            Location::Sqlite(path) => path,
+        };
+        let shown = path.display();
+        let flags = match access {
+            Access::Record => rusqlite::OpenFlags::SQLITE_OPEN_READ_WRITE | rusqlite::OpenFlags::SQLITE_OPEN_CREATE,
+            Access::Read => {
+                anyhow::ensure!(path.is_file(), "no results database at {shown} (a reader never creates one)");
+                rusqlite::OpenFlags::SQLITE_OPEN_READ_WRITE
+            }
+        } | rusqlite::OpenFlags::SQLITE_OPEN_NO_MUTEX
+            | rusqlite::OpenFlags::SQLITE_OPEN_URI;
+        let connection = rusqlite::Connection::open_with_flags(path, flags)
+            .with_context(|| format!("opening the results database {shown}"))?;
         // Writers queue for each other instead of failing.
         connection.busy_timeout(Duration::from_secs(60)).context("setting the database's busy timeout")?;
+        if access == Access::Record {
+            // SQLite opens a file it may not write read-only, without a word.
+            anyhow::ensure!(
+                !connection.is_readonly(rusqlite::MAIN_DB).unwrap_or(true),
+                "the results database {shown} is read-only: a run could not be recorded"
+            );
+        }
+        // A damaged page is found now, not by a later reader.
+        let verdict: String = connection
+            .query_row("PRAGMA quick_check", [], |row| row.get(0))
+            .with_context(|| format!("checking the results database {shown}"))?;
+        anyhow::ensure!(verdict == "ok", "the results database {shown} is damaged: {verdict}");
         Ok(Self::Sqlite(connection))
     }
 
@@ -151,8 +238,16 @@ impl Store {
     }
 }
 
-/// A URL without its password, for messages.
+/// A location without its password, for messages: a URL's `user:password@`, a libpq string's
+/// `password=…`.
 pub fn redact(location: &str) -> String {
+    if looks_like_libpq_keywords(location) {
+        return location
+            .split_whitespace()
+            .map(|word| if word.starts_with("password=") { "password=***" } else { word })
+            .collect::<Vec<_>>()
+            .join(" ");
+    }
     match (location.find("://"), location.rfind('@')) {
         (Some(scheme), Some(at)) if at > scheme => {
             let credentials = &location[scheme + 3..at];
@@ -291,6 +386,22 @@ impl Transaction<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn database_locations_parse_by_scheme_and_never_show_a_password() {
+        assert_eq!(Location::parse("runs.sqlite").unwrap(), Location::Sqlite("runs.sqlite".into()));
+        assert_eq!(Location::parse("sqlite:x.db").unwrap(), Location::Sqlite("x.db".into()));
+        assert_eq!(Location::parse("sqlite:///tmp/x.db").unwrap(), Location::Sqlite("/tmp/x.db".into()));
+        assert_eq!(Location::parse("POSTGRES://u:p@h/db").unwrap(), Location::Postgres("postgresql://u:p@h/db".into()));
+        let keywords = "host=/tmp password=hunter2 dbname=fragkit";
+        assert_eq!(Location::parse(keywords).unwrap(), Location::Postgres(keywords.into()));
+        assert_eq!(redact(keywords), "host=/tmp password=*** dbname=fragkit");
+        assert_eq!(redact("postgres://u:hunter2@h/db"), "postgres://u:***@h/db");
+        for refused in ["", "  ", "mysql://u:hunter2@h/db", "http://h/x", "sqlite:"] {
+            let error = format!("{:#}", Location::parse(refused).unwrap_err());
+            assert!(!error.contains("hunter2"), "{error}");
+        }
+    }
 
     #[test]
     fn passwords_stay_out_of_messages() {
