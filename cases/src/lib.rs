@@ -60,6 +60,7 @@ pub const ALL: &[Case] = &[
     fault::process_death::ABORT,
     fault::process_death::SEGFAULT,
     fault::hang::CASE,
+    fault::out_of_memory::CASE,
     soak::cps::CASE,
     soak::oit::CASE,
     soak::cbr::CASE,

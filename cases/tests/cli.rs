@@ -143,6 +143,7 @@ fn a_crashing_or_hanging_case_costs_that_case_and_the_run_goes_on_in_a_new_proce
         "kit.hash.values",
         "fault.segfault",
         "fault.hang",
+        "fault.out_of_memory",
         "kit.determinism",
         "--timeout",
         "3",
@@ -163,6 +164,7 @@ fn a_crashing_or_hanging_case_costs_that_case_and_the_run_goes_on_in_a_new_proce
             ("kit.hash.values", "pass"),
             ("fault.segfault", "crash"),
             ("fault.hang", "timeout"),
+            ("fault.out_of_memory", "crash"),
             ("kit.determinism", "pass")
         ],
         "{report}"
@@ -171,11 +173,70 @@ fn a_crashing_or_hanging_case_costs_that_case_and_the_run_goes_on_in_a_new_proce
     assert!(reason(0).contains("signal 6 (SIGABRT)") && reason(0).contains("aborting on purpose"), "{}", reason(0));
     assert!(reason(2).contains("signal 11 (SIGSEGV)") && reason(2).contains("--backend"), "{}", reason(2));
     assert!(reason(3).contains("no record for 3 s"), "{}", reason(3));
+    assert!(reason(4).contains("memory allocation of 4398046511104 bytes failed"), "{}", reason(4));
     let xml = std::fs::read_to_string(&junit).unwrap();
-    assert_eq!(xml.matches("type=\"CRASH\"").count(), 2, "{xml}");
-    assert!(text.contains("5 cases: 3 unexpected failures"), "{text}");
+    assert_eq!(xml.matches("type=\"CRASH\"").count(), 3, "{xml}");
+    assert!(text.contains("6 cases: 4 unexpected failures"), "{text}");
     std::fs::remove_file(&path).ok();
     std::fs::remove_file(&junit).ok();
+}
+
+/// The pids of the processes whose parent is `parent` and whose command line holds `marker`.
+fn children_of(parent: u32, marker: &str) -> Vec<u32> {
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir("/proc").unwrap().flatten() {
+        let Ok(pid) = entry.file_name().to_string_lossy().parse::<u32>() else { continue };
+        let stat = std::fs::read_to_string(entry.path().join("stat")).unwrap_or_default();
+        // The parent's pid is the second field after the command's closing parenthesis.
+        let ppid = stat.rsplit_once(')').and_then(|(_, rest)| rest.split_whitespace().nth(1)?.parse::<u32>().ok());
+        let cmdline = std::fs::read(entry.path().join("cmdline")).unwrap_or_default();
+        if ppid == Some(parent) && String::from_utf8_lossy(&cmdline).contains(marker) {
+            found.push(pid);
+        }
+    }
+    found
+}
+
+#[test]
+fn a_case_child_killed_from_outside_is_a_crash_and_the_run_completes_in_every_output() {
+    let dir = std::env::temp_dir().join(format!("fragkit-killed-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (json, junit, db) = (dir.join("run.json"), dir.join("run.xml"), dir.join("runs.sqlite"));
+    let mut parent = Command::new(env!("CARGO_BIN_EXE_fragkit"))
+        .args(["check", "fault.hang", "kit.hash.values", "--json", json.to_str().unwrap()])
+        .args(["--junit", junit.to_str().unwrap(), "--db", db.to_str().unwrap()])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The child running fault.hang, once it is there: killed as an OOM killer or a user would.
+    let started = std::time::Instant::now();
+    let child = loop {
+        if let Some(&pid) = children_of(parent.id(), "--child-stream").first() {
+            break pid;
+        }
+        assert!(started.elapsed().as_secs() < 60, "no case child appeared");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    assert!(Command::new("kill").args(["-9", &child.to_string()]).status().unwrap().success());
+    let output = parent.wait_with_output().unwrap();
+    let text = String::from_utf8_lossy(&output.stdout).into_owned() + &String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{text}");
+    let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let outcomes: Vec<(&str, &str)> = report["cases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| (c["name"].as_str().unwrap(), c["outcome"].as_str().unwrap()))
+        .collect();
+    assert_eq!(outcomes, [("fault.hang", "crash"), ("kit.hash.values", "pass")], "{report}");
+    assert!(report["cases"][0]["reason"].as_str().unwrap().contains("signal 9 (SIGKILL)"), "{report}");
+    assert_eq!(std::fs::read_to_string(&junit).unwrap().matches("type=\"CRASH\"").count(), 1);
+    let (code, text) = fragkit(&["compare", "--db", db.to_str().unwrap(), json.to_str().unwrap(), "latest"]);
+    assert_eq!(code, 0, "the recorded run holds both cases: {text}");
+    assert!(text.contains("0 case runs only in the base, 0 only in the new run"), "{text}");
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]

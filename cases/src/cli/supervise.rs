@@ -172,7 +172,9 @@ pub fn supervise(
             }
         }
         let Some(run) = runs.get(done) else { break };
-        let record = death_record(run, &death, &stderr_tail, &report.adapter, expectations, timeout);
+        let stderr_whole = std::fs::read_to_string(&scratch.stderr).unwrap_or_default();
+        let death = DeathReport { death, message: last_message(&stderr_whole), stderr_tail };
+        let record = death_record(run, &death, &report.adapter, expectations, timeout);
         for sink in sinks.iter_mut() {
             sink.record(&record)?;
         }
@@ -204,14 +206,29 @@ fn start_child(program: &Path, arguments: &[OsString], scratch: &Scratch, skip: 
 
 /// The record of the case a child died in: `crash` or `timeout`, or `known_issue` where the
 /// expectations list that death for this adapter.
+/// A child's death and what its stderr said.
+struct DeathReport {
+    death: Death,
+    /// The line that says what happened (`last_message`).
+    message: String,
+    /// The last lines, kept in the record's diagnostics.
+    stderr_tail: String,
+}
+
+/// The last line a dying process wrote before its backtrace (RUST_BACKTRACE), or its last line.
+fn last_message(stderr: &str) -> String {
+    let before_backtrace = stderr.rsplit_once("stack backtrace:").map_or(stderr, |(before, _)| before);
+    before_backtrace.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("(nothing on stderr)").to_owned()
+}
+
 fn death_record(
     run: &CaseRun,
-    death: &Death,
-    stderr_tail: &str,
+    report: &DeathReport,
     adapter: &AdapterDescription,
     expectations: &Expectations,
     timeout: Duration,
 ) -> CaseRecord {
+    let DeathReport { death, message: last_error, stderr_tail } = report;
     let (outcome, what) = match death {
         Death::Status(status) => {
             let how = if status.code().is_some() {
@@ -226,7 +243,6 @@ fn death_record(
             format!("timeout: no record for {} s; the process running the case was killed", timeout.as_secs()),
         ),
     };
-    let last_error = stderr_tail.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("(nothing on stderr)");
     // One problem (the expectations split a failure at "; "), so a known issue can match it.
     let why = format!("{what} (stderr ends: {last_error})");
     let (outcome, reason) = match expectations.explain(run.case.name, adapter, &why) {

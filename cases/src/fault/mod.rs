@@ -2,9 +2,11 @@
 //! the GPU or its process on purpose and therefore ends `fail`, `crash` or `timeout`: what they
 //! check is the runner around them — the fault is captured in that case's record with its
 //! message, and the run goes on (on a new device after a loss, in a new process after a crash or
-//! a hang). `cases/tests/cli.rs` runs them between ordinary cases and checks the report.
+//! a hang or running out of memory). `cases/tests/cli.rs` runs them between ordinary cases and
+//! checks the report.
 
 pub mod device_loss;
 pub mod hang;
+pub mod out_of_memory;
 pub mod process_death;
 pub mod validation_error;
