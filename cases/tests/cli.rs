@@ -202,7 +202,7 @@ fn a_case_child_killed_from_outside_is_a_crash_and_the_run_completes_in_every_ou
     let dir = std::env::temp_dir().join(format!("fragkit-killed-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (json, junit, db) = (dir.join("run.json"), dir.join("run.xml"), dir.join("runs.sqlite"));
-    let mut parent = Command::new(env!("CARGO_BIN_EXE_fragkit"))
+    let parent = Command::new(env!("CARGO_BIN_EXE_fragkit"))
         .args(["check", "fault.hang", "kit.hash.values", "--json", json.to_str().unwrap()])
         .args(["--junit", junit.to_str().unwrap(), "--db", db.to_str().unwrap()])
         .stdout(std::process::Stdio::piped())

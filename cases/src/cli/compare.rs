@@ -78,7 +78,7 @@ pub fn compare_reports(args: CompareArgs) -> Result<ExitCode> {
         Some(db) => db.gpu_history(&new.adapter, new_id)?,
         None => Default::default(),
     };
-    let judgement = TimeJudgement { threshold: args.threshold, alpha: args.alpha, ..Default::default() };
+    let judgement = TimeJudgement { threshold: args.threshold, alpha: args.alpha };
     let comparison = compare(&base, &new, &judgement, &history);
     let markdown = comparison.markdown(&args.base, &args.new);
     print!("{markdown}");
