@@ -402,9 +402,16 @@ fn compare_reports_a_case_broken_in_the_new_run_and_exits_non_zero() {
     let (code, text) = fragkit(&["compare", base.to_str().unwrap(), same.to_str().unwrap()]);
     assert_eq!(code, 0, "{text}");
     assert!(text.contains("0 regressions"), "{text}");
-    let (code, text) = fragkit(&["compare", base.to_str().unwrap(), broken.to_str().unwrap()]);
+    let verdict = dir.join("verdict.json");
+    let (code, text) =
+        fragkit(&["compare", base.to_str().unwrap(), broken.to_str().unwrap(), "--json", verdict.to_str().unwrap()]);
     assert_eq!(code, 1, "{text}");
-    assert!(text.contains("1 regressions") && text.contains("| `kit.hash.values` | pass | FAIL |"), "{text}");
+    assert!(text.contains("1 regression,") && text.contains("| `kit.hash.values` | pass | FAIL |"), "{text}");
+    // The run says its shaders were not its commit's (D13), and CI can read the verdict.
+    assert!(text.contains("read its shaders from") && text.contains("FRAGKIT_SHADER_DIR"), "{text}");
+    let verdict: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&verdict).unwrap()).unwrap();
+    assert_eq!(verdict["regressed"], true, "{verdict}");
+    assert_eq!(verdict["comparison"]["regressions"][0]["case"], "kit.hash.values", "{verdict}");
     // The broken case's time is no verdict: its outcome is the news.
     assert!(text.contains("the case is FAIL in the new run"), "{text}");
     // A new run that ran nothing is no run to pass.
@@ -415,6 +422,83 @@ fn compare_reports_a_case_broken_in_the_new_run_and_exits_non_zero() {
     let (code, text) = fragkit(&["compare", base.to_str().unwrap(), empty.to_str().unwrap()]);
     assert_eq!(code, 2, "{text}");
     assert!(text.contains("holds no case runs"), "{text}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A run's commit is the build's, not what a `git` on the run's PATH says (D13); a run whose
+/// process is killed midway keeps its finished case runs, shows as incomplete and is never taken
+/// for `latest`; an imported report keeps its time and commit and is not imported twice (D18).
+#[test]
+fn a_killed_run_stays_incomplete_the_commit_is_the_builds_and_an_import_happens_once() {
+    let dir = std::env::temp_dir().join(format!("fragkit-incomplete-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    let fake_bin = dir.join("bin");
+    std::fs::create_dir_all(&fake_bin).unwrap();
+    let fake_git = fake_bin.join("git");
+    std::fs::write(&fake_git, "#!/bin/sh\necho deadbeef\n").unwrap();
+    std::process::Command::new("chmod").args(["+x", fake_git.to_str().unwrap()]).status().unwrap();
+    let path = format!("{}:{}", fake_bin.display(), std::env::var("PATH").unwrap());
+    let (db, json) = (dir.join("runs.sqlite"), dir.join("run.json"));
+    let (db_arg, json_arg) = (db.to_str().unwrap(), json.to_str().unwrap());
+    let finished = Command::new(env!("CARGO_BIN_EXE_fragkit"))
+        .args(["check", "kit.hash.values", "--db", db_arg, "--json", json_arg])
+        .env("PATH", &path)
+        .output()
+        .unwrap();
+    assert_eq!(finished.status.code(), Some(0), "{}", String::from_utf8_lossy(&finished.stderr));
+    let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["run"]["git_commit"].as_str(), fragkit::harness::run_info::BUILD_COMMIT, "{report}");
+    assert_eq!(report["run"]["kind"], "check", "{report}");
+
+    // A second run, killed (parent and case child) while it hangs in its second case.
+    let mut killed = Command::new(env!("CARGO_BIN_EXE_fragkit"))
+        .args(["check", "kit.hash.values", "fault.hang", "--db", db_arg])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let started = std::time::Instant::now();
+    // The parent's stream from its child (supervise.rs's scratch file) holds the first record.
+    let stream = std::env::temp_dir().join(format!("fragkit-child-{}.stream", killed.id()));
+    let child = loop {
+        let first_recorded = std::fs::read_to_string(&stream).is_ok_and(|text| text.contains("\"kit.hash.values\""));
+        if let (true, Some(&pid)) = (first_recorded, children_of(killed.id(), "--child-stream").first()) {
+            break pid;
+        }
+        assert!(started.elapsed().as_secs() < 120, "the first case never finished");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    // Time for the parent to record it.
+    std::thread::sleep(std::time::Duration::from_millis(1000));
+    killed.kill().unwrap();
+    killed.wait().unwrap();
+    Command::new("kill").args(["-9", &child.to_string()]).status().unwrap();
+
+    let site = dir.join("site");
+    let (code, text) = fragkit(&["html", "--db", db_arg, "--out", site.to_str().unwrap()]);
+    assert_eq!(code, 0, "{text}");
+    let index = std::fs::read_to_string(site.join("index.html")).unwrap();
+    assert!(index.contains("run 2") && index.contains("incomplete: the run ended before its last case"), "{index}");
+    assert!(!index.contains("deadbeef"), "the commit came from the PATH's git: {index}");
+    // `latest` is the finished run: comparing it with its own JSON finds nothing.
+    let (code, text) = fragkit(&["compare", "--db", db_arg, json_arg, "latest"]);
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("0 case runs only in the base, 0 only in the new run"), "{text}");
+    // Run 2 holds its finished case run (a run without any is refused).
+    let (code, text) = fragkit(&["compare", "--db", db_arg, "1", "2"]);
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("0 case runs only in the base, 0 only in the new run"), "{text}");
+
+    let (code, text) = fragkit(&["import", "--db", db_arg, json_arg]);
+    assert_eq!(code, 0, "{text}");
+    let (code, text) = fragkit(&["import", "--db", db_arg, json_arg]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("was imported before, as run 3"), "{text}");
+    let (code, text) = fragkit(&["html", "--db", db_arg, "--run", "3", "--out", site.to_str().unwrap()]);
+    assert_eq!(code, 0, "{text}");
+    let index = std::fs::read_to_string(site.join("index.html")).unwrap();
+    let commit = &fragkit::harness::run_info::BUILD_COMMIT.unwrap_or("unknown")[..10];
+    assert!(index.contains("import · 20") && index.contains(commit), "the import keeps its commit: {index}");
     std::fs::remove_dir_all(&dir).ok();
 }
 

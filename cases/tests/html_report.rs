@@ -90,11 +90,13 @@ fn the_html_report_loads_in_chromium_with_a_row_per_case_and_the_regression_list
     let (dom, console) = open_in_chromium(browser, &site.join("index.html"), &profile, None);
     assert!(console.is_empty(), "console messages on the matrix: {console:#?}");
     assert_eq!(dom.matches("<tr class=\"case\"").count(), rows, "a matrix row per case run");
-    assert!(dom.contains("<td class=\"fail\""), "the broken case shows as failed");
+    assert!(dom.contains("<td class=\"fail regressed\""), "the broken case shows as failed, marked as regressed");
+    assert_eq!(dom.matches("▼ regressed").count(), 1, "only the broken case is marked");
+    assert!(dom.contains("check · 20") && dom.contains("commit "), "each run's kind, date and commit: {dom}");
 
     let (dom, console) = open_in_chromium(browser, &site.join("compare.html"), &profile, None);
     assert!(console.is_empty(), "console messages on the comparison: {console:#?}");
-    let regressions = dom.split("id=\"regressions\"").nth(1).expect("a regressions table");
+    let regressions = dom.split("class=\"regressions\"").nth(1).expect("a regressions table");
     assert!(regressions.contains("kit.hash.values") && regressions.contains("&lt;b&gt;3 values differ"), "{dom}");
 
     for page in
@@ -108,4 +110,10 @@ fn the_html_report_loads_in_chromium_with_a_row_per_case_and_the_regression_list
     let screenshot = dir.join("index.png");
     open_in_chromium(browser, &site.join("index.html"), &profile, Some(&screenshot));
     assert!(std::fs::read(&screenshot).unwrap().starts_with(b"\x89PNG"), "a screenshot in {}", screenshot.display());
+    // Written again with fewer case runs: no page of the earlier set is left behind.
+    let mut fewer = report.clone();
+    fewer["cases"].as_array_mut().unwrap().truncate(2);
+    std::fs::write(&new, fewer.to_string()).unwrap();
+    fragkit(&["html", new.to_str().unwrap(), "--out", site.to_str().unwrap()]);
+    assert_eq!(std::fs::read_dir(site.join("case")).unwrap().count(), 2, "stale case pages were left");
 }

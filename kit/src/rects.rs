@@ -40,6 +40,7 @@ struct RectInstance {
 }
 
 /// Instances ready to draw on a target of a given size.
+#[derive(Clone)]
 pub struct RectBatch {
     buffer: wgpu::Buffer,
     count: u32,

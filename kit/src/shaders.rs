@@ -131,4 +131,23 @@ impl ShaderFile {
             source: wgpu::ShaderSource::Wgsl(self.assembled().into()),
         })
     }
+
+    /// The module source for single-sampled targets: `sample` interpolation becomes `center`.
+    /// With one sample per pixel the sample *is* the pixel centre (Vulkan's standard 1x position,
+    /// GL's `sample` qualifier at 1x), so the meaning is the same, while APIs without per-sample
+    /// shading (GL 3.3: softpipe) refuse a shader that names `sample` at all.
+    pub fn single_sampled(&self) -> String {
+        self.assembled()
+            .replace("@interpolate(perspective, sample)", "@interpolate(perspective, center)")
+            .replace("@interpolate(linear, sample)", "@interpolate(linear, center)")
+    }
+
+    /// [`Self::module`] for a pipeline of `samples` per pixel: [`Self::single_sampled`] at 1.
+    pub fn module_for_samples(&self, gpu: &Gpu, samples: u32) -> wgpu::ShaderModule {
+        let source = if samples == 1 { self.single_sampled() } else { self.assembled() };
+        gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(self.path),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        })
+    }
 }

@@ -31,12 +31,27 @@ fn every_shader_file_is_registered() {
 }
 
 fn validate(name: &str, source: &str) -> naga::Module {
+    validate_with(name, source, naga::valid::Capabilities::all()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn validate_with(name: &str, source: &str, capabilities: naga::valid::Capabilities) -> Result<naga::Module, String> {
     let module =
         naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
-    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
+    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), capabilities)
         .validate(&module)
-        .unwrap_or_else(|e| panic!("{name}: {e:?}"));
-    module
+        .map_err(|e| format!("{name}: {e:?}"))?;
+    Ok(module)
+}
+
+/// GL 3.3 (softpipe) has no per-sample shading; the checkerboard scene's single-sampled passes
+/// (offset passes, full-resolution reference) must not need it, while its 2x form does.
+#[test]
+fn the_single_sampled_checkerboard_scene_needs_no_per_sample_shading() {
+    let without = naga::valid::Capabilities::all() - naga::valid::Capabilities::MULTISAMPLED_SHADING;
+    let scene = fragkit::shaders::CBR_SCENE;
+    validate_with(scene.path, &scene.single_sampled(), without).unwrap();
+    let error = validate_with(scene.path, &scene.assembled(), without).unwrap_err();
+    assert!(error.contains("MULTISAMPLED_SHADING"), "{error}");
 }
 
 #[test]

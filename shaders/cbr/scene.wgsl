@@ -37,7 +37,8 @@ struct SceneVertex {
 }
 
 // Sample interpolation: every sample of a 2x target is its own shading point (and forces
-// per-sample shading); on single-sampled targets it is the pixel centre. Materials are flat:
+// per-sample shading); on single-sampled targets it is the pixel centre, and the kit compiles
+// it there as `center` (`ShaderFile::single_sampled`), which GL 3.3 accepts. Materials are flat:
 // constant per triangle, bit-exact whatever the interpolation weights.
 struct SceneVarying {
     @builtin(position) @invariant clip: vec4f,

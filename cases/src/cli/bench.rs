@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use fragkit::bench::{BenchResult, TECHNIQUES, for_technique, measure};
 use fragkit::gpu::{AdapterSelector, Gpu};
-use fragkit::harness::database::{Database, RunInfo};
+use fragkit::harness::database::{Database, RunInfo, RunKind};
 use fragkit::harness::report::Report;
 
 use super::matrix::{MatrixArgs, run_each_showing_output};
@@ -68,8 +68,9 @@ pub fn bench(selector: &AdapterSelector, args: BenchArgs) -> Result<()> {
             cases: results.iter().flat_map(BenchResult::records).collect(),
             diagnostics: fragkit::harness::diagnostics::take(),
             shard: None,
+            run: None,
         };
-        let id = database.record(&report, &RunInfo::now(args.tag.clone()))?;
+        let id = database.record(&report, &RunInfo::now(RunKind::Bench, args.tag.clone()), None)?;
         println!("recorded as run {id} in {}", database.location());
     }
     Ok(())

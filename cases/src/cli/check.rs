@@ -9,11 +9,12 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use fragkit::gpu::{AdapterSelector, Gpu};
 use fragkit::harness::Case;
-use fragkit::harness::database::{Database, DatabaseSink, RunInfo};
+use fragkit::harness::database::{Database, DatabaseSink, RunInfo, RunKind};
 use fragkit::harness::expectations::{BUILT_IN, Expectations};
 use fragkit::harness::html::{Column, HtmlSink, write_site};
 use fragkit::harness::junit::JunitSink;
 use fragkit::harness::params::parse_overrides;
+use fragkit::harness::readable::counted;
 use fragkit::harness::report::{Report, ReportedOutcome};
 use fragkit::harness::run::{CaseRun, JsonSink, RunOptions, Shard, Sink, plan_runs, run};
 use fragkit::harness::runner::{check_overrides, check_sizes, select};
@@ -141,11 +142,11 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     }
 
     let mut table = TableSink::new(verbose);
-    let mut json = args.json.as_deref().map(|path| JsonSink { path, shard });
+    let info = RunInfo::now(RunKind::Check, args.tag.clone());
+    let mut json = args.json.as_deref().map(|path| JsonSink { path, shard, run: info.clone() });
     let mut junit = args.junit.as_deref().map(|path| JunitSink { path, flaky_fails: args.flaky_fails });
-    let mut database =
-        database.map(|database| DatabaseSink { database, info: RunInfo::now(args.tag.clone()), run_id: None });
-    let mut html = args.html.as_deref().map(|dir| HtmlSink { dir });
+    let mut database = database.map(|database| DatabaseSink::new(database, info.clone()));
+    let mut html = args.html.as_deref().map(|dir| HtmlSink { dir, run: info });
     // The HTML pages last: they are the most likely to fail, and the others are written by then.
     let mut sinks: Vec<&mut dyn Sink> = vec![&mut table];
     sinks.extend(json.as_mut().map(|sink| sink as &mut dyn Sink));
@@ -160,7 +161,11 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
         println!("recorded as run {id} in {}", database.location());
     }
     let failures = report.failures(args.flaky_fails);
-    println!("{} cases: {} unexpected failures", report.cases.len(), failures);
+    println!(
+        "{}: {}",
+        counted(report.cases.len(), "case", "cases"),
+        counted(failures, "unexpected failure", "unexpected failures")
+    );
     Ok(if failures == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
@@ -336,7 +341,7 @@ fn check_matrix(
             snapshot,
             run.ending(),
         ]);
-        columns.push(Column { label: name, report });
+        columns.push(Column::new(name, report));
     }
     print_table(&table);
     for line in &details {

@@ -26,6 +26,10 @@ pub struct CompareArgs {
     /// Also write the markdown here.
     #[arg(long)]
     markdown: Option<PathBuf>,
+    /// Also write the comparison as JSON here (every change with its numbers and verdict, and
+    /// whether it regressed: what a CI step reads).
+    #[arg(long)]
+    json: Option<PathBuf>,
     /// Smallest relative GPU-time change that counts as a regression (0.05: 5 % slower).
     #[arg(long, default_value_t = 0.05, value_parser = fraction)]
     threshold: f64,
@@ -68,6 +72,11 @@ pub fn compare_reports(args: CompareArgs) -> Result<ExitCode> {
             "the {which} run {name} holds no case runs: there is nothing to compare"
         );
     }
+    for (name, report) in [(&args.base, &base), (&args.new, &new)] {
+        if let Some(dir) = report.run.as_ref().and_then(|run| run.shader_override.as_ref()) {
+            eprintln!("note: run {name} read its shaders from {dir} (FRAGKIT_SHADER_DIR), not its commit's");
+        }
+    }
     if base.adapter != new.adapter {
         eprintln!(
             "note: the runs are on different adapters ({} {} / {} {}); outcomes still compare case by case",
@@ -84,6 +93,16 @@ pub fn compare_reports(args: CompareArgs) -> Result<ExitCode> {
     print!("{markdown}");
     if let Some(path) = &args.markdown {
         std::fs::write(path, &markdown).with_context(|| format!("writing {}", path.display()))?;
+    }
+    if let Some(path) = &args.json {
+        let json = serde_json::json!({
+            "base": args.base,
+            "new": args.new,
+            "regressed": comparison.regressed(),
+            "comparison": comparison,
+        });
+        std::fs::write(path, serde_json::to_string_pretty(&json)?)
+            .with_context(|| format!("writing {}", path.display()))?;
     }
     Ok(if comparison.regressed() { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }

@@ -31,17 +31,29 @@ pub struct HtmlArgs {
 pub fn html(args: HtmlArgs) -> Result<()> {
     let mut columns = Vec::new();
     for path in &args.reports {
-        columns.push(Column { label: path.display().to_string(), report: Report::read(path)? });
+        columns.push(Column::new(path.display().to_string(), Report::read(path)?));
     }
     if let Some(location) = &args.db {
         let mut db = Database::open_existing(location)?;
+        let runs = db.runs()?;
         let ids = if args.runs.is_empty() {
-            db.latest_per_adapter()?
+            // The latest finished check of each adapter, and any run after it that never
+            // finished: shown as incomplete, never passed over.
+            let latest = db.latest_per_adapter()?;
+            let oldest = latest.first().copied().unwrap_or(i64::MAX);
+            let unfinished = runs.iter().filter(|r| !r.complete && r.id > oldest).map(|r| r.id);
+            let mut ids: Vec<i64> = latest.iter().copied().chain(unfinished).collect();
+            if ids.is_empty() {
+                ids.extend(runs.iter().filter(|r| !r.complete).map(|r| r.id));
+            }
+            ids.sort_unstable();
+            ids
         } else {
             args.runs.iter().map(|r| db.resolve(&RunRef::parse(r)?)).collect::<Result<_>>()?
         };
         for id in ids {
-            columns.push(Column { label: format!("run {id}"), report: db.load(id)? });
+            let complete = runs.iter().find(|r| r.id == id).is_none_or(|r| r.complete);
+            columns.push(Column { complete, ..Column::new(format!("run {id}"), db.load(id)?) });
         }
     }
     anyhow::ensure!(!columns.is_empty(), "nothing to show: give JSON reports or --db with runs in it");

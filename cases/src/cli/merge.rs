@@ -2,6 +2,7 @@
 //! printed as the table, written as JSON and, when asked, JUnit XML; exit 1 on any unexpected
 //! failure in it.
 
+use fragkit::harness::readable::counted;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -41,6 +42,11 @@ pub fn merge(args: MergeArgs) -> Result<ExitCode> {
         write_junit(&merged, path, args.flaky_fails)?;
     }
     let failures = merged.failures(args.flaky_fails);
-    println!("{} cases from {} reports: {} unexpected failures", merged.cases.len(), args.reports.len(), failures);
+    println!(
+        "{} from {}: {}",
+        counted(merged.cases.len(), "case", "cases"),
+        counted(args.reports.len(), "report", "reports"),
+        counted(failures, "unexpected failure", "unexpected failures")
+    );
     Ok(if failures == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }

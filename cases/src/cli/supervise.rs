@@ -110,7 +110,13 @@ pub fn supervise(
                             for sink in sinks.iter_mut() {
                                 sink.start(&adapter, done + count)?;
                             }
-                            report = Some(Report { adapter, cases: Vec::new(), diagnostics: Vec::new(), shard: None });
+                            report = Some(Report {
+                                adapter,
+                                cases: Vec::new(),
+                                diagnostics: Vec::new(),
+                                shard: None,
+                                run: None,
+                            });
                         }
                     }
                     StreamLine::Record(record) => {

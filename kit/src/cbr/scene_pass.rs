@@ -150,7 +150,7 @@ impl ScenePipelines {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let module = shaders::CBR_SCENE.module(gpu);
+        let module = shaders::CBR_SCENE.module_for_samples(gpu, samples);
         let premultiplied = wgpu::BlendState {
             color: wgpu::BlendComponent {
                 src_factor: wgpu::BlendFactor::One,

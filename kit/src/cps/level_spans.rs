@@ -30,6 +30,7 @@ pub(super) struct LevelSpans {
 
 /// One batch of every level's spans (the level in each instance's red, as the marks read it)
 /// and where each level's instances lie in it.
+#[derive(Clone)]
 pub(super) struct SpanBatch {
     batch: RectBatch,
     ranges: Vec<Range<u32>>,

@@ -199,8 +199,12 @@ impl CpsRenderer {
                 uniform_buffer(gpu, "level", bytemuck::cast_slice(&[level as u32, x, y, 0]))
             })
             .collect();
-        let foveated = (plan.stencil_pyramid && plan.levels_from_foveation)
-            .then(|| (foveated_blocks(gpu, &plan, &config.policy), LevelSpans::foveated(&plan, &config.policy)));
+        let foveated = (plan.stencil_pyramid && plan.levels_from_foveation).then(|| {
+            (
+                foveated_blocks(gpu, &plan, &config.policy),
+                LevelSpans::foveated(&plan, &config.policy).batch(gpu, atlas.size),
+            )
+        });
         let marks = plan.stencil_pyramid.then(|| {
             let source = match (&mask, &foveated) {
                 (Some(mask), _) => MarkSource::Pyramid(&mask.chain),
@@ -209,7 +213,7 @@ impl CpsRenderer {
                     unreachable!("a stencil pyramid without a mask pyramid has its levels from the foveation")
                 }
             };
-            StencilMarks::new(gpu, &plan, source, &level_uniforms)
+            StencilMarks::new(gpu, source, &level_uniforms)
         });
         let lit_where_marked = plan
             .stencil_pyramid
@@ -233,7 +237,7 @@ impl CpsRenderer {
                 bind_group_at(gpu, "light level", &light_pipeline, 1, &resources)
             })
             .collect();
-        let light_spans = foveated.map(|(_, spans)| spans.batch(gpu, atlas.size));
+        let light_spans = foveated.map(|(_, spans)| spans);
         let level_draws = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("level draws"),
             size: 16 * 9,

@@ -5,7 +5,7 @@
 //! one instanced draw over every level's spans (cps/level_spans.rs).
 
 use super::config::LodPolicy;
-use super::level_spans::{LevelSpans, SpanBatch};
+use super::level_spans::SpanBatch;
 use super::plan::Plan;
 use super::renderer::{STENCIL, level_draw_offset};
 use super::targets::MipChain;
@@ -44,15 +44,15 @@ pub(super) enum MarkSource<'a> {
     /// The finished LOD-present mask pyramid.
     Pyramid(&'a MipChain),
     /// The foveation (`foveated_blocks`), over the levels' spans.
-    Foveation(&'a wgpu::Buffer, &'a LevelSpans),
+    Foveation(&'a wgpu::Buffer, &'a SpanBatch),
 }
 
 impl StencilMarks {
-    /// The marks of a plan's levels, read from `source`.
-    pub(super) fn new(gpu: &Gpu, plan: &Plan, source: MarkSource<'_>, level_uniforms: &[wgpu::Buffer]) -> Self {
+    /// The marks of each level (`level_uniforms`), read from `source`.
+    pub(super) fn new(gpu: &Gpu, source: MarkSource<'_>, level_uniforms: &[wgpu::Buffer]) -> Self {
         let mask = match source {
             MarkSource::Pyramid(mask) => mask,
-            MarkSource::Foveation(blocks, spans) => return Self::foveated(gpu, plan, blocks, spans),
+            MarkSource::Foveation(blocks, spans) => return Self::foveated(gpu, blocks, spans),
         };
         // In the lighting pass: its colour target, left unwritten.
         let unwritten =
@@ -80,7 +80,7 @@ impl StencilMarks {
     }
 
     /// Every level's marks from the foveation (`blocks`: `foveated_blocks`), in one draw.
-    fn foveated(gpu: &Gpu, plan: &Plan, blocks: &wgpu::Buffer, spans: &LevelSpans) -> Self {
+    fn foveated(gpu: &Gpu, blocks: &wgpu::Buffer, spans: &SpanBatch) -> Self {
         let pipeline = RectPipeline {
             colour_format: Some(HDR),
             colour_writes: wgpu::ColorWrites::empty(),
@@ -90,7 +90,8 @@ impl StencilMarks {
         }
         .create(gpu);
         let group = bind_group_at(gpu, "foveated stencil marks", &pipeline, 0, &[(2, blocks.as_entire_binding())]);
-        Self::Foveated { pipeline, group, spans: spans.batch(gpu, plan.atlas.size) }
+        // The lighting's own batch: a clone shares the one buffer.
+        Self::Foveated { pipeline, group, spans: spans.clone() }
     }
 
     /// Every level's marks, into `pass` (stencil reference 1). From the pyramid, each level is

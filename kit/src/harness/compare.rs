@@ -8,10 +8,11 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use super::noise::mann_whitney_p;
+use super::readable::counted;
 use super::report::{CaseRecord, Report, ReportedOutcome, is_timing_metric};
 
 /// One case run present in both reports whose outcome differs.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct OutcomeChange {
     pub case: String,
     pub base: ReportedOutcome,
@@ -20,7 +21,7 @@ pub struct OutcomeChange {
 }
 
 /// A numeric metric whose value differs between the runs.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct MetricChange {
     pub case: String,
     pub metric: String,
@@ -31,7 +32,7 @@ pub struct MetricChange {
 /// Both runs' repeats, compared: the Mann–Whitney p-value, and the smallest p these numbers of
 /// repeats can give (2 / C(m + n, m): 0.1 for 3 against 3), which must lie below `--alpha` for
 /// the test to judge at all.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct RepeatsTest {
     pub p: f64,
     pub smallest_p: f64,
@@ -44,7 +45,7 @@ pub struct RepeatsTest {
 /// far out is its p-value (two-sided, (1 + k) / (n + 1) doubled), whatever the distribution. It
 /// catches what repeats within a run cannot: the drift between runs (another day, another
 /// machine state); it needs 2 / alpha − 1 earlier runs to judge at all.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct HistoryRank {
     pub runs: usize,
     pub median_ms: f64,
@@ -55,7 +56,7 @@ pub struct HistoryRank {
 /// What a GPU-time change was judged against. Each test that can reach `--alpha` must call it
 /// beyond the noise; `not_judged` says why no test was asked (a failing case, a cold time against
 /// a warm median), and a test that cannot reach alpha says so in the verdict.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct TimeEvidence {
     pub repeats: Option<RepeatsTest>,
     pub history: Option<HistoryRank>,
@@ -71,7 +72,7 @@ impl TimeEvidence {
     }
 }
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct TimeChange {
     pub case: String,
     pub base_ms: f64,
@@ -192,7 +193,7 @@ fn median(values: &[f64]) -> f64 {
     crate::query::median(values.to_vec())
 }
 
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Comparison {
     /// Passing (or not failing) in the base run, failing in the new one.
     pub regressions: Vec<OutcomeChange>,
@@ -286,12 +287,12 @@ impl Comparison {
         let mut md = format!("## fragkit: {new} against {base}\n\n");
         let _ = writeln!(
             md,
-            "{} regressions, {} fixes, {} other outcome changes, {} metric changes; {} case runs only in the base, {} only in the new run.\n",
-            self.regressions.len(),
-            self.fixes.len(),
-            self.other_changes.len(),
-            self.metric_changes.len(),
-            self.only_in_base.len(),
+            "{}, {}, {}, {}; {} only in the base, {} only in the new run.\n",
+            counted(self.regressions.len(), "regression", "regressions"),
+            counted(self.fixes.len(), "fix", "fixes"),
+            counted(self.other_changes.len(), "other outcome change", "other outcome changes"),
+            counted(self.metric_changes.len(), "metric change", "metric changes"),
+            counted(self.only_in_base.len(), "case run", "case runs"),
             self.only_in_new.len()
         );
         for (title, changes) in
@@ -422,7 +423,7 @@ mod tests {
     }
 
     fn report(cases: Vec<CaseRecord>) -> Report {
-        Report { adapter: AdapterDescription::default(), cases, diagnostics: Vec::new(), shard: None }
+        Report { adapter: AdapterDescription::default(), cases, diagnostics: Vec::new(), shard: None, run: None }
     }
 
     #[test]

@@ -1,9 +1,11 @@
 //! The HTML report: one self-contained static page set (no network, no external files) for a
 //! person or a CI artifact browser. `index.html` is the matrix of case runs × runs (a run per
-//! adapter, or runs over time) with outcomes; `case/N.html` each case run's outcome, reason,
-//! parameters, GPU time, metrics and evidence images side by side; `compare.html` the first run
-//! against the last (regressions, fixes, metric and GPU-time changes); `reports.html` the
-//! technique reports' plots and tables. Evidence and plots are copied under `files/`.
+//! adapter, or runs over time; each run with its kind, date, commit and tag) with outcomes, a
+//! regression against the run before on the same adapter marked; `case/N.html` each case run's
+//! outcome, reason, parameters, GPU time, metrics and evidence (result, reference, error mask);
+//! `compare.html` each run against the one before it on the same adapter (regressions, fixes,
+//! metric and GPU-time changes); `reports.html` the technique reports' plots and tables. Evidence
+//! and plots are copied under `files/`; pages of an earlier write of the same folder are removed.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -13,14 +15,33 @@ use anyhow::{Context, Result};
 
 use super::compare::{Comparison, GpuHistory, TimeJudgement, compare};
 use super::markup::escape;
+use super::readable::{counted, number, utc_time};
 use super::report::{CaseRecord, Report};
+use super::run_info::RunInfo;
 
 /// One column of the matrix.
 pub struct Column {
     /// e.g. "run 12" or a report's file name.
     pub label: String,
     pub report: Report,
+    /// False for a database run whose process ended before it finished.
+    pub complete: bool,
 }
+
+impl Column {
+    pub fn new(label: String, report: Report) -> Self {
+        Self { label, report, complete: true }
+    }
+
+    /// "name (backend)": which runs are one adapter's.
+    fn adapter(&self) -> String {
+        format!("{} ({})", self.report.adapter.name, self.report.adapter.backend)
+    }
+}
+
+/// The page set's mark in its index, so that a later write of the folder knows which old pages
+/// are its own to remove.
+const GENERATOR: &str = "<meta name=\"generator\" content=\"fragkit html\">";
 
 const STYLE: &str = "
 body { font: 14px/1.4 system-ui, sans-serif; margin: 1.5em; color: #222; }
@@ -30,6 +51,8 @@ th { background: #f3f3f3; }
 td.pass { background: #d9f2d9; } td.fail, td.unexpected_pass { background: #f7c6c6; font-weight: bold; }
 td.not_supported { background: #eee; color: #666; } td.known_issue { background: #fbe8c0; }
 td.flaky { background: #f3d1f3; font-weight: bold; } td.absent { color: #aaa; }
+td.regressed { outline: 3px solid #b00; outline-offset: -3px; } .incomplete { color: #b00; font-weight: bold; }
+.evidence figcaption { display: flex; } .evidence figcaption span { flex: 1; text-align: center; }
 pre { white-space: pre-wrap; background: #f7f7f7; padding: 0.5em; max-width: 70em; }
 .evidence { display: flex; flex-wrap: wrap; gap: 1em; }
 .evidence figure { margin: 0; } .evidence img { image-rendering: pixelated; min-width: 24em; max-width: 48em; border: 1px solid #ccc; }
@@ -62,7 +85,7 @@ if (filter) {
 fn page(title: &str, depth: usize, body: &str) -> String {
     let up = "../".repeat(depth);
     format!(
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{title}</title><style>{STYLE}</style></head>\n<body>\n<nav><a href=\"{up}index.html\">matrix</a><a href=\"{up}compare.html\">comparison</a><a href=\"{up}reports.html\">technique reports</a></nav>\n<h1>{title}</h1>\n{body}\n<script>{SCRIPT}</script>\n</body></html>\n",
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">{GENERATOR}<title>{title}</title><style>{STYLE}</style></head>\n<body>\n<nav><a href=\"{up}index.html\">matrix</a><a href=\"{up}compare.html\">comparison</a><a href=\"{up}reports.html\">technique reports</a></nav>\n<h1>{title}</h1>\n{body}\n<script>{SCRIPT}</script>\n</body></html>\n",
         title = escape(title)
     )
 }
@@ -75,6 +98,7 @@ fn outcome_class(record: &CaseRecord) -> String {
 /// wrote (their PNG plots and markdown tables go on the reports page). Returns the index's path.
 pub fn write_site(dir: &Path, columns: &[Column], report_dirs: &[PathBuf]) -> Result<PathBuf> {
     anyhow::ensure!(!columns.is_empty(), "an HTML report needs at least one run");
+    remove_earlier_pages(dir)?;
     for sub in ["case", "files"] {
         std::fs::create_dir_all(dir.join(sub)).with_context(|| format!("creating {}", dir.join(sub).display()))?;
     }
@@ -97,12 +121,86 @@ pub fn write_site(dir: &Path, columns: &[Column], report_dirs: &[PathBuf]) -> Re
         let body = case_page(columns, &cells[key], &mut copier)?;
         write(&dir.join(format!("case/{n}.html")), &page(key, 1, &body))?;
     }
-    let _ = write!(index, "<p>{} case runs in {} runs.</p>", order.len(), columns.len());
+    let _ = write!(
+        index,
+        "<p>{} in {}.</p>",
+        counted(order.len(), "case run", "case runs"),
+        counted(columns.len(), "run", "runs")
+    );
     let index_path = dir.join("index.html");
     write(&index_path, &page("fragkit results", 0, &index))?;
     write(&dir.join("compare.html"), &page("Comparison", 0, &comparison_page(columns)))?;
     write(&dir.join("reports.html"), &page("Technique reports", 0, &reports_page(report_dirs, &mut copier)?))?;
     Ok(index_path)
+}
+
+/// Removes the case pages and copied files of an earlier page set in `dir` (one whose index
+/// fragkit wrote), so that no page of a case no longer shown survives.
+fn remove_earlier_pages(dir: &Path) -> Result<()> {
+    let ours = std::fs::read_to_string(dir.join("index.html")).is_ok_and(|index| index.contains(GENERATOR));
+    if !ours {
+        return Ok(());
+    }
+    for sub in ["case", "files"] {
+        let path = dir.join(sub);
+        if path.is_dir() {
+            std::fs::remove_dir_all(&path).with_context(|| format!("removing the earlier {}", path.display()))?;
+        }
+    }
+    Ok(())
+}
+
+/// For each column, the case runs that regressed since the column before it on the same adapter.
+fn regressions_since_previous(columns: &[Column]) -> Vec<Vec<String>> {
+    columns
+        .iter()
+        .enumerate()
+        .map(|(i, column)| match previous_on_adapter(columns, i) {
+            Some(before) => compare(&before.report, &column.report, &TimeJudgement::default(), &GpuHistory::default())
+                .regressions
+                .into_iter()
+                .map(|change| change.case)
+                .collect(),
+            None => Vec::new(),
+        })
+        .collect()
+}
+
+/// The column before column `i` on the same adapter.
+fn previous_on_adapter(columns: &[Column], i: usize) -> Option<&Column> {
+    let adapter = columns[i].adapter();
+    columns[..i].iter().rev().find(|c| c.adapter() == adapter)
+}
+
+/// A column's heading: its label, adapter and driver, and what the run says of itself.
+fn column_heading(column: &Column) -> String {
+    let a = &column.report.adapter;
+    let mut lines = vec![
+        format!("{} ({})", escape(&a.name), escape(&a.backend)),
+        format!("{} {}", escape(&a.driver), escape(&a.driver_info)),
+    ];
+    if let Some(run) = &column.report.run {
+        let commit = run
+            .git_commit
+            .as_deref()
+            .map_or("commit unknown".to_owned(), |c| format!("commit {}", &c[..c.len().min(10)]));
+        lines.push(format!("{} · {} · {}", run.kind.name(), utc_time(run.started_unix), escape(&commit)));
+        if let Some(tag) = &run.tag {
+            lines.push(format!("tag {}", escape(tag)));
+        }
+        if let Some(dir) = &run.shader_override {
+            lines.push(format!("<span class=\"incomplete\">shaders from {}</span>", escape(dir)));
+        }
+    }
+    lines.push(format!(
+        "{}, {}",
+        counted(column.report.cases.len(), "case", "cases"),
+        counted(column.report.failures(false), "unexpected failure", "unexpected failures")
+    ));
+    if !column.complete {
+        lines.push("<span class=\"incomplete\">incomplete: the run ended before its last case</span>".to_owned());
+    }
+    format!("<th>{}<br><small>{}</small></th>", escape(&column.label), lines.join("<br>"))
 }
 
 fn write(path: &Path, text: &str) -> Result<()> {
@@ -114,20 +212,10 @@ fn matrix(columns: &[Column], order: &[String], cells: &BTreeMap<String, Vec<Opt
         "<p><label>Filter cases: <input id=\"filter\" type=\"search\" placeholder=\"e.g. cps.\"></label></p>\n<table id=\"matrix\">\n<thead><tr><th>case run</th>",
     );
     for column in columns {
-        let a = &column.report.adapter;
-        let failures = column.report.failures(false);
-        let _ = write!(
-            html,
-            "<th>{}<br><small>{} ({})<br>{} {}<br>{} cases, {failures} unexpected failures</small></th>",
-            escape(&column.label),
-            escape(&a.name),
-            escape(&a.backend),
-            escape(&a.driver),
-            escape(&a.driver_info),
-            column.report.cases.len()
-        );
+        html.push_str(&column_heading(column));
     }
     html.push_str("</tr></thead>\n<tbody>\n");
+    let regressed = regressions_since_previous(columns);
     for (n, key) in order.iter().enumerate() {
         let _ = write!(
             html,
@@ -135,14 +223,17 @@ fn matrix(columns: &[Column], order: &[String], cells: &BTreeMap<String, Vec<Opt
             escape(key),
             escape(key)
         );
-        for cell in &cells[key] {
+        for (cell, regressed) in cells[key].iter().zip(&regressed) {
             match cell {
                 Some(record) => {
                     let reason = record.reason.lines().next().unwrap_or_default();
+                    let (class, mark) = match regressed.contains(key) {
+                        true => (format!("{} regressed", outcome_class(record)), " ▼ regressed"),
+                        false => (outcome_class(record), ""),
+                    };
                     let _ = write!(
                         html,
-                        "<td class=\"{}\" title=\"{}\"><a href=\"case/{n}.html\">{}</a></td>",
-                        outcome_class(record),
+                        "<td class=\"{class}\" title=\"{}\"><a href=\"case/{n}.html\">{}</a>{mark}</td>",
                         escape(reason),
                         record.outcome.label()
                     );
@@ -193,7 +284,10 @@ fn case_page(columns: &[Column], cells: &[Option<&CaseRecord>], copier: &mut Fil
         );
         let gpu = match (record.gpu_ms, record.gpu_ms_repeats.len()) {
             (Some(ms), 0) => format!("{ms:.3} ms"),
-            (Some(ms), n) => format!("{ms:.3} ms (median of {n}: {:?})", record.gpu_ms_repeats),
+            (Some(ms), n) => {
+                let repeats: Vec<String> = record.gpu_ms_repeats.iter().map(|&r| number(r)).collect();
+                format!("{ms:.3} ms (median of {n}: {})", repeats.join(", "))
+            }
             (None, _) => "not measured".to_owned(),
         };
         let _ = write!(
@@ -222,7 +316,7 @@ fn case_page(columns: &[Column], cells: &[Option<&CaseRecord>], copier: &mut Fil
         if !metrics.is_empty() {
             html.push_str("<h3>Metrics</h3><table><tr><th>metric</th><th>value</th></tr>");
             for (name, value) in &metrics {
-                let _ = write!(html, "<tr><td>{}</td><td>{value}</td></tr>", escape(name));
+                let _ = write!(html, "<tr><td>{}</td><td>{}</td></tr>", escape(name), number(*value));
             }
             html.push_str("</table>\n");
         }
@@ -232,9 +326,10 @@ fn case_page(columns: &[Column], cells: &[Option<&CaseRecord>], copier: &mut Fil
                 let caption = escape(&path.display().to_string());
                 match copier.copy(path)? {
                     Some(copy) => {
+                        // Every evidence image is a strip: result, reference, error mask.
                         let _ = write!(
                             html,
-                            "<figure><img src=\"../{copy}\" alt=\"{caption}\"><figcaption>{caption}</figcaption></figure>"
+                            "<figure><img src=\"../{copy}\" alt=\"{caption}: result, reference, error mask\"><figcaption><span>result</span><span>reference</span><span>error mask</span></figcaption><small>{caption}</small></figure>"
                         );
                     }
                     None => {
@@ -248,37 +343,49 @@ fn case_page(columns: &[Column], cells: &[Option<&CaseRecord>], copier: &mut Fil
     Ok(html)
 }
 
+/// Each run against the one before it on the same adapter (`fragkit compare` for any other pair).
 fn comparison_page(columns: &[Column]) -> String {
-    let [first, .., last] = columns else {
-        return "<p>One run: nothing to compare. Give two runs or more; the first is compared with the last.</p>"
-            .to_owned();
-    };
-    let comparison = compare(&first.report, &last.report, &TimeJudgement::default(), &GpuHistory::default());
-    comparison_html(&comparison, &first.label, &last.label)
+    let mut html = String::new();
+    for (i, column) in columns.iter().enumerate() {
+        let Some(before) = previous_on_adapter(columns, i) else { continue };
+        let comparison = compare(&before.report, &column.report, &TimeJudgement::default(), &GpuHistory::default());
+        let _ = write!(
+            html,
+            "<h2>{} against {} ({})</h2>",
+            escape(&column.label),
+            escape(&before.label),
+            escape(&column.adapter())
+        );
+        html.push_str(&comparison_html(&comparison, &before.label, &column.label));
+    }
+    if html.is_empty() {
+        html.push_str("<p>No two runs on one adapter: nothing to compare. Each run is compared with the one before it on the same adapter; <code>fragkit compare</code> compares any two.</p>");
+    }
+    html
 }
 
 fn comparison_html(c: &Comparison, base: &str, new: &str) -> String {
     let mut html = format!(
-        "<p><b>{}</b> against <b>{}</b>: {} regressions, {} fixes, {} other outcome changes, {} metric changes, {} GPU times slower beyond the noise.</p>\n",
+        "<p><b>{}</b> against <b>{}</b>: {}, {}, {}, {}, {} slower beyond the noise.</p>\n",
         escape(new),
         escape(base),
-        c.regressions.len(),
-        c.fixes.len(),
-        c.other_changes.len(),
-        c.metric_changes.len(),
-        c.time_changes.iter().filter(|t| t.regression).count()
+        counted(c.regressions.len(), "regression", "regressions"),
+        counted(c.fixes.len(), "fix", "fixes"),
+        counted(c.other_changes.len(), "other outcome change", "other outcome changes"),
+        counted(c.metric_changes.len(), "metric change", "metric changes"),
+        counted(c.time_changes.iter().filter(|t| t.regression).count(), "GPU time", "GPU times")
     );
     for (title, id, changes) in [
         ("Regressions", "regressions", &c.regressions),
         ("Fixes", "fixes", &c.fixes),
         ("Other outcome changes", "other", &c.other_changes),
     ] {
-        let _ = write!(html, "<h2>{title}</h2>");
+        let _ = write!(html, "<h3>{title}</h3>");
         if changes.is_empty() {
             html.push_str("<p>none</p>");
             continue;
         }
-        let _ = write!(html, "<table id=\"{id}\"><tr><th>case run</th><th>was</th><th>now</th><th>reason</th></tr>");
+        let _ = write!(html, "<table class=\"{id}\"><tr><th>case run</th><th>was</th><th>now</th><th>reason</th></tr>");
         for change in changes {
             let _ = write!(
                 html,
@@ -293,7 +400,7 @@ fn comparison_html(c: &Comparison, base: &str, new: &str) -> String {
     }
     if !c.metric_changes.is_empty() {
         html.push_str(
-            "<h2>Metric changes</h2><table><tr><th>case run</th><th>metric</th><th>was</th><th>now</th></tr>",
+            "<h3>Metric changes</h3><table><tr><th>case run</th><th>metric</th><th>was</th><th>now</th></tr>",
         );
         for m in &c.metric_changes {
             let _ = write!(
@@ -301,15 +408,15 @@ fn comparison_html(c: &Comparison, base: &str, new: &str) -> String {
                 "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
                 escape(&m.case),
                 escape(&m.metric),
-                m.base,
-                m.new
+                number(m.base),
+                number(m.new)
             );
         }
         html.push_str("</table>\n");
     }
     let judged: Vec<_> = c.time_changes.iter().filter(|t| t.regression || t.improvement).collect();
     if !judged.is_empty() {
-        html.push_str("<h2>GPU time beyond the noise</h2><table><tr><th>case run</th><th>base ms</th><th>new ms</th><th>new / base</th></tr>");
+        html.push_str("<h3>GPU time beyond the noise</h3><table><tr><th>case run</th><th>base ms</th><th>new ms</th><th>new / base</th></tr>");
         for t in judged {
             let _ = write!(
                 html,
@@ -325,7 +432,7 @@ fn comparison_html(c: &Comparison, base: &str, new: &str) -> String {
     for (title, cases) in [("Only in the base run", &c.only_in_base), ("Only in the new run", &c.only_in_new)] {
         if !cases.is_empty() {
             let items: Vec<String> = cases.iter().map(|k| format!("<li>{}</li>", escape(k))).collect();
-            let _ = write!(html, "<h2>{title}</h2><ul>{}</ul>", items.join(""));
+            let _ = write!(html, "<h3>{title}</h3><ul>{}</ul>", items.join(""));
         }
     }
     html
@@ -375,11 +482,12 @@ fn reports_page(report_dirs: &[PathBuf], copier: &mut FileCopier) -> Result<Stri
 /// Writes the single-run page set when `fragkit check --html DIR` finishes.
 pub struct HtmlSink<'a> {
     pub dir: &'a Path,
+    pub run: RunInfo,
 }
 
 impl super::run::Sink for HtmlSink<'_> {
     fn finish(&mut self, report: &Report) -> Result<()> {
-        let column = Column { label: "this run".to_owned(), report: report.clone() };
+        let column = Column::new("this run".to_owned(), Report { run: Some(self.run.clone()), ..report.clone() });
         write_site(self.dir, &[column], &[]).map(|_| ())
     }
 }

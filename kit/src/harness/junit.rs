@@ -153,6 +153,7 @@ mod tests {
             ],
             diagnostics: Vec::new(),
             shard: None,
+            run: None,
         };
         let xml = to_junit(&report, false);
         assert!(xml.contains("tests=\"4\" failures=\"1\" errors=\"0\" skipped=\"1\""));
@@ -193,7 +194,8 @@ mod tests {
             params: [("n".to_owned(), super::super::params::ParamValue::Count(2))].into(),
             ..record("kit.case0", ReportedOutcome::Pass, "")
         });
-        let report = Report { adapter: AdapterDescription::default(), cases, diagnostics: Vec::new(), shard: None };
+        let report =
+            Report { adapter: AdapterDescription::default(), cases, diagnostics: Vec::new(), shard: None, run: None };
         let schema = concat!(env!("CARGO_MANIFEST_DIR"), "/src/harness/junit.xsd");
         for flaky_fails in [false, true] {
             let path = std::env::temp_dir().join(format!("fragkit-junit-{}-{flaky_fails}.xml", std::process::id()));

@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use super::params::ParamValue;
 use super::run::Shard;
+use super::run_info::RunInfo;
 use crate::gpu::AdapterDescription;
 
 /// A case's outcome as reported, after the expectations file was applied.
@@ -143,6 +144,9 @@ pub struct Report {
     /// Which shard of a run this is (`check --shard K/N`): `merge` joins only a whole set.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shard: Option<Shard>,
+    /// When, where and from what commit the run was made (absent in reports of older kits).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub run: Option<RunInfo>,
 }
 
 /// Refuses shards that are not one whole set: a report of a shard beside one that is none, shards
@@ -226,7 +230,9 @@ impl Report {
         }
         // Each shard opened its own device: their opening records, one after another.
         let diagnostics = reports.iter().flat_map(|(_, r)| r.diagnostics.iter().cloned()).collect();
-        Ok(Self { adapter, cases, diagnostics, shard: None })
+        // The set's run: the first shard's kind, commit and tag (each started on its own).
+        let run = reports.first().and_then(|(_, r)| r.run.clone());
+        Ok(Self { adapter, cases, diagnostics, shard: None, run })
     }
 
     /// Writes the report through a temporary file and a rename, so that an interrupted run never

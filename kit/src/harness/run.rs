@@ -12,6 +12,7 @@ use super::case::Case;
 use super::diagnostics;
 use super::expectations::Expectations;
 use super::report::{CaseRecord, Report, ReportedOutcome};
+use super::run_info::RunInfo;
 use super::runner::run_case;
 use super::sweep;
 use crate::gpu::{AdapterDescription, Gpu};
@@ -137,8 +138,13 @@ pub fn run(mut gpu: Gpu, runs: &[CaseRun], options: &RunOptions, sinks: &mut [&m
         sink.start(&gpu.description, runs.len())?;
     }
     // What opening the device logged (EGL probing a missing DRI driver, say) belongs to the run.
-    let mut report =
-        Report { adapter: gpu.description.clone(), cases: Vec::new(), diagnostics: diagnostics::take(), shard: None };
+    let mut report = Report {
+        adapter: gpu.description.clone(),
+        cases: Vec::new(),
+        diagnostics: diagnostics::take(),
+        shard: None,
+        run: None,
+    };
     for run in runs {
         let mut record = run_case(&gpu, run.case, &run.overrides, options.expectations, options.evidence_dir);
         while record.outcome == ReportedOutcome::Fail && record.attempts <= options.retries && gpu.lost().is_none() {
@@ -193,14 +199,13 @@ pub struct JsonSink<'a> {
     pub path: &'a Path,
     /// The run's shard, written into the report for `merge`.
     pub shard: Option<Shard>,
+    /// The run's kind, time and commit, written into the report for `import`.
+    pub run: RunInfo,
 }
 
 impl Sink for JsonSink<'_> {
     fn finish(&mut self, report: &Report) -> Result<()> {
-        match self.shard {
-            Some(shard) => Report { shard: Some(shard), ..report.clone() }.write_atomically(self.path),
-            None => report.write_atomically(self.path),
-        }
+        Report { shard: self.shard, run: Some(self.run.clone()), ..report.clone() }.write_atomically(self.path)
     }
 }
 

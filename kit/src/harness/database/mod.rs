@@ -4,8 +4,9 @@
 //! evidence paths. An embedded SQLite file by default (bundled SQLite: nothing to install), or a
 //! PostgreSQL server (`postgres://…`) for a fleet of machines writing to one store: the same
 //! schema and the same queries through [`store`]. The schema is versioned and migrated forward on
-//! open; a database newer than this kit is refused. A run is written in one transaction, so a
-//! killed run leaves nothing half-written, and two runs writing at once both land.
+//! open; a database newer than this kit is refused. Each case run is written in one transaction as
+//! it finishes, so a killed run keeps every finished case run and shows as incomplete, never as a
+//! normal run; two runs writing at once both land.
 
 pub mod store;
 
@@ -15,6 +16,7 @@ pub use self::store::{Access, Location};
 use self::store::{Dialect, Row, Store, Transaction, redact};
 use super::compare::GpuHistory;
 use super::report::{CaseRecord, Report, ReportedOutcome, run_name};
+pub use super::run_info::{RunInfo, RunKind};
 use crate::gpu::AdapterDescription;
 
 /// Schema migrations, applied in order. `{id}` is each dialect's auto-numbered key; the other
@@ -58,6 +60,13 @@ const MIGRATIONS: &[&str] = &[
     CREATE INDEX metrics_by_case_run ON metrics(case_run_id);",
     // 2: every repeat's GPU time (`check --repeat N`, `fragkit bench`), a JSON array.
     "ALTER TABLE case_runs ADD COLUMN gpu_ms_repeats TEXT NOT NULL DEFAULT '[]';",
+    // 3: a run's kind (check, bench, import), whether it finished (case runs are recorded as
+    // they finish; a run killed midway stays incomplete), the shader folder it read instead of
+    // the built-in shaders, and the digest of the report an import recorded.
+    "ALTER TABLE runs ADD COLUMN kind TEXT NOT NULL DEFAULT 'check';
+    ALTER TABLE runs ADD COLUMN complete BIGINT NOT NULL DEFAULT 1;
+    ALTER TABLE runs ADD COLUMN shader_override TEXT;
+    ALTER TABLE runs ADD COLUMN report_digest TEXT;",
 ];
 
 fn migration_sql(migration: &str, dialect: Dialect) -> String {
@@ -68,39 +77,13 @@ fn migration_sql(migration: &str, dialect: Dialect) -> String {
     migration.replace("{id}", id)
 }
 
+/// The runs `latest`, `tag:` and the matrix mean: finished runs with verdicts (a check, or an
+/// import of one), never a bench run or a run whose process ended midway.
+const VERDICT_RUNS: &str = "complete = 1 AND kind <> 'bench'";
+
 /// Serialises PostgreSQL migrations of one database across processes (a transaction-scoped
 /// advisory lock; SQLite's write lock does this for it).
 const MIGRATION_LOCK: i64 = 0x0066_7261_676b_6974; // "fragkit"
-
-/// Where and how a run was made, beyond its report.
-#[derive(Clone, Debug, Default)]
-pub struct RunInfo {
-    pub started_unix: i64,
-    pub kit_version: String,
-    pub git_commit: Option<String>,
-    pub host: Option<String>,
-    pub tag: Option<String>,
-}
-
-impl RunInfo {
-    /// This process's run: now, the kit's version, the commit of the source tree it was built
-    /// from where git can tell, this host.
-    pub fn now(tag: Option<String>) -> Self {
-        let started_unix =
-            std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs() as i64);
-        let git_commit = std::process::Command::new("git")
-            .args(["-C", env!("CARGO_MANIFEST_DIR"), "rev-parse", "HEAD"])
-            .output()
-            .ok()
-            .filter(|o| o.status.success())
-            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_owned());
-        let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
-            .ok()
-            .or_else(|| std::env::var("HOSTNAME").ok())
-            .map(|h| h.trim().to_owned());
-        Self { started_unix, kit_version: env!("CARGO_PKG_VERSION").to_owned(), git_commit, host, tag }
-    }
-}
 
 /// Which run of a database: `latest`, `latest~N` (N runs before the latest), either with
 /// `@GLOB` (only runs on an adapter whose "name (backend)" matches), a run id, or `tag:NAME` (the
@@ -223,70 +206,79 @@ impl Database {
             .with_context(|| format!("opening {what}"))
     }
 
-    /// Records a run in one transaction; returns its id.
-    pub fn record(&mut self, report: &Report, info: &RunInfo) -> Result<i64> {
+    /// Records a whole run in one transaction (a bench, an import); returns its id.
+    pub fn record(&mut self, report: &Report, info: &RunInfo, digest: Option<&str>) -> Result<i64> {
         let location = self.location.clone();
         self.store
             .transaction(|tx| {
-                let a = &report.adapter;
-                let run_id = tx
-                    .query_one(
-                        "INSERT INTO runs (started_unix, kit_version, git_commit, host, tag, adapter, backend, driver, driver_info, device_type)
-                         VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10) RETURNING id",
-                        &[
-                            info.started_unix.into(),
-                            (&info.kit_version).into(),
-                            info.git_commit.as_deref().into(),
-                            info.host.as_deref().into(),
-                            info.tag.as_deref().into(),
-                            (&a.name).into(),
-                            (&a.backend).into(),
-                            (&a.driver).into(),
-                            (&a.driver_info).into(),
-                            (&a.device_type).into(),
-                        ],
-                    )?
-                    .context("inserting the run returned no id")?
-                    .int(0)?;
+                let run_id = insert_run(tx, &report.adapter, info, digest, true)?;
                 for (position, case) in report.cases.iter().enumerate() {
-                    let (params, evidence, metrics, repeats) = (
-                        serde_json::to_string(&case.params)?,
-                        serde_json::to_string(&case.evidence)?,
-                        serde_json::to_string(&case.metrics)?,
-                        serde_json::to_string(&case.gpu_ms_repeats)?,
-                    );
-                    let outcome = outcome_name(case.outcome);
-                    let case_run_id = tx
-                        .query_one(
-                            "INSERT INTO case_runs (run_id, position, name, params, outcome, reason, gpu_ms, wall_ms, attempts, evidence, metrics, gpu_ms_repeats)
-                             VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12) RETURNING id",
-                            &[
-                                run_id.into(),
-                                (position as i64).into(),
-                                (&case.name).into(),
-                                (&params).into(),
-                                (&outcome).into(),
-                                (&case.reason).into(),
-                                case.gpu_ms.into(),
-                                case.wall_ms.into(),
-                                i64::from(case.attempts).into(),
-                                (&evidence).into(),
-                                (&metrics).into(),
-                                (&repeats).into(),
-                            ],
-                        )?
-                        .context("inserting a case run returned no id")?
-                        .int(0)?;
-                    for (name, value) in case.numeric_metrics() {
-                        tx.execute(
-                            "INSERT INTO metrics (case_run_id, name, value) VALUES ($1, $2, $3)",
-                            &[case_run_id.into(), (&name).into(), value.into()],
-                        )?;
-                    }
+                    insert_case_run(tx, run_id, position, case)?;
                 }
                 Ok(run_id)
             })
             .with_context(|| format!("recording the run in {location}"))
+    }
+
+    /// Starts recording a run whose case runs come one by one ([`Self::record_case_run`]):
+    /// incomplete until [`Self::finish_run`], and shown so if it never gets there.
+    pub fn begin_run(&mut self, adapter: &AdapterDescription, info: &RunInfo) -> Result<i64> {
+        let location = self.location.clone();
+        self.store
+            .transaction(|tx| insert_run(tx, adapter, info, None, false))
+            .with_context(|| format!("recording the start of the run in {location}"))
+    }
+
+    /// Records one finished case run of run `run_id`, in its own transaction.
+    pub fn record_case_run(&mut self, run_id: i64, position: usize, case: &CaseRecord) -> Result<()> {
+        let location = self.location.clone();
+        self.store
+            .transaction(|tx| insert_case_run(tx, run_id, position, case))
+            .with_context(|| format!("recording {} of run {run_id} in {location}", case.run_name()))
+    }
+
+    /// Marks run `run_id` complete: every case run it planned is recorded.
+    pub fn finish_run(&mut self, run_id: i64) -> Result<()> {
+        let location = self.location.clone();
+        self.store
+            .transaction(|tx| tx.execute("UPDATE runs SET complete = 1 WHERE id = $1", &[run_id.into()]).map(drop))
+            .with_context(|| format!("recording the end of run {run_id} in {location}"))
+    }
+
+    /// The run an import of the report with this digest recorded, if one did.
+    pub fn imported_as(&mut self, digest: &str) -> Result<Option<i64>> {
+        let row = self.store.transaction(|tx| {
+            tx.query_one("SELECT id FROM runs WHERE report_digest = $1 ORDER BY id LIMIT 1", &[digest.into()])
+        })?;
+        row.map(|r| r.int(0)).transpose()
+    }
+
+    /// The runs, newest first: id, kind, whether complete, when, commit, tag, shader override and
+    /// adapter label.
+    pub fn runs(&mut self) -> Result<Vec<RunSummary>> {
+        let rows = self.store.transaction(|tx| {
+            tx.query(
+                "SELECT id, kind, complete, started_unix, git_commit, tag, shader_override, adapter, backend,
+                    (SELECT count(*) FROM case_runs c WHERE c.run_id = runs.id)
+                 FROM runs ORDER BY id DESC",
+                &[],
+            )
+        })?;
+        rows.iter()
+            .map(|r| {
+                Ok(RunSummary {
+                    id: r.int(0)?,
+                    kind: RunKind::parse(&r.text(1)?)?,
+                    complete: r.int(2)? != 0,
+                    started_unix: r.int(3)?,
+                    git_commit: r.optional_text(4)?,
+                    tag: r.optional_text(5)?,
+                    shader_override: r.optional_text(6)?,
+                    adapter: adapter_label(&r.text(7)?, &r.text(8)?),
+                    case_runs: r.int(9)?,
+                })
+            })
+            .collect()
     }
 
     /// The id of the run `which` names.
@@ -295,12 +287,16 @@ impl Database {
         self.store.transaction(|tx| {
             let found = match which {
                 RunRef::Id(id) => tx.query_one("SELECT id FROM runs WHERE id = $1", &[(*id).into()])?,
-                RunRef::Latest { back, adapter: None } => {
-                    tx.query_one("SELECT id FROM runs ORDER BY id DESC LIMIT 1 OFFSET $1", &[i64::from(*back).into()])?
-                }
+                RunRef::Latest { back, adapter: None } => tx.query_one(
+                    &format!("SELECT id FROM runs WHERE {VERDICT_RUNS} ORDER BY id DESC LIMIT 1 OFFSET $1"),
+                    &[i64::from(*back).into()],
+                )?,
                 RunRef::Latest { back, adapter: Some(glob) } => {
                     let pattern = glob::Pattern::new(glob)?;
-                    let runs = tx.query("SELECT id, adapter, backend FROM runs ORDER BY id DESC", &[])?;
+                    let runs = tx.query(
+                        &format!("SELECT id, adapter, backend FROM runs WHERE {VERDICT_RUNS} ORDER BY id DESC"),
+                        &[],
+                    )?;
                     let mut matching = Vec::new();
                     for run in runs {
                         if pattern.matches(&adapter_label(&run.text(1)?, &run.text(2)?)) {
@@ -309,9 +305,10 @@ impl Database {
                     }
                     matching.into_iter().nth(*back as usize)
                 }
-                RunRef::Tag(tag) => {
-                    tx.query_one("SELECT id FROM runs WHERE tag = $1 ORDER BY id DESC LIMIT 1", &[tag.into()])?
-                }
+                RunRef::Tag(tag) => tx.query_one(
+                    &format!("SELECT id FROM runs WHERE tag = $1 AND {VERDICT_RUNS} ORDER BY id DESC LIMIT 1"),
+                    &[tag.into()],
+                )?,
             };
             match found {
                 Some(row) => row.int(0),
@@ -329,7 +326,9 @@ impl Database {
         self.store.transaction(|tx| {
             let run = tx
                 .query_one(
-                    "SELECT adapter, backend, driver, driver_info, device_type FROM runs WHERE id = $1",
+                    "SELECT adapter, backend, driver, driver_info, device_type,
+                        kind, started_unix, kit_version, git_commit, host, tag, shader_override
+                     FROM runs WHERE id = $1",
                     &[id.into()],
                 )?
                 .with_context(|| format!("{location} holds no run {id}"))?;
@@ -340,13 +339,22 @@ impl Database {
                 driver_info: run.text(3)?,
                 device_type: run.text(4)?,
             };
+            let info = RunInfo {
+                kind: RunKind::parse(&run.text(5)?)?,
+                started_unix: run.int(6)?,
+                kit_version: run.text(7)?,
+                git_commit: run.optional_text(8)?,
+                host: run.optional_text(9)?,
+                tag: run.optional_text(10)?,
+                shader_override: run.optional_text(11)?,
+            };
             let rows = tx.query(
                 "SELECT name, params, outcome, reason, gpu_ms, wall_ms, attempts, evidence, metrics, gpu_ms_repeats
                  FROM case_runs WHERE run_id = $1 ORDER BY position",
                 &[id.into()],
             )?;
             let cases = rows.iter().map(|row| case_record(row, id, &location)).collect::<Result<_>>()?;
-            Ok(Report { adapter, cases, diagnostics: Vec::new(), shard: None })
+            Ok(Report { adapter, cases, diagnostics: Vec::new(), shard: None, run: Some(info) })
         })
     }
 
@@ -393,9 +401,12 @@ impl Database {
 
     /// The latest run of each adapter (name, backend), oldest adapter first.
     pub fn latest_per_adapter(&mut self) -> Result<Vec<i64>> {
-        let rows = self
-            .store
-            .transaction(|tx| tx.query("SELECT max(id) FROM runs GROUP BY adapter, backend ORDER BY max(id)", &[]))?;
+        let rows = self.store.transaction(|tx| {
+            tx.query(
+                &format!("SELECT max(id) FROM runs WHERE {VERDICT_RUNS} GROUP BY adapter, backend ORDER BY max(id)"),
+                &[],
+            )
+        })?;
         rows.iter().map(|r| r.int(0)).collect()
     }
 
@@ -406,7 +417,7 @@ impl Database {
         let rows = self.store.transaction(|tx| {
             tx.query(
                 "SELECT c.name, c.params, c.gpu_ms, c.gpu_ms_repeats FROM case_runs c JOIN runs r ON c.run_id = r.id
-                 WHERE r.adapter = $1 AND r.backend = $2 AND r.driver_info = $3 AND r.id < $4
+                 WHERE r.adapter = $1 AND r.backend = $2 AND r.driver_info = $3 AND r.id < $4 AND r.kind <> 'bench'
                    AND c.gpu_ms IS NOT NULL AND c.outcome IN ('pass', 'known_issue')
                  ORDER BY r.id",
                 &[
@@ -426,6 +437,91 @@ impl Database {
         }
         Ok(history)
     }
+}
+
+/// One run as the run lists show it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunSummary {
+    pub id: i64,
+    pub kind: RunKind,
+    /// False for a run whose process ended before it finished (its case runs so far are kept).
+    pub complete: bool,
+    pub started_unix: i64,
+    pub git_commit: Option<String>,
+    pub tag: Option<String>,
+    pub shader_override: Option<String>,
+    /// "name (backend)".
+    pub adapter: String,
+    pub case_runs: i64,
+}
+
+fn insert_run(
+    tx: &mut Transaction,
+    a: &AdapterDescription,
+    info: &RunInfo,
+    digest: Option<&str>,
+    complete: bool,
+) -> Result<i64> {
+    tx.query_one(
+        "INSERT INTO runs (started_unix, kit_version, git_commit, host, tag, adapter, backend, driver, driver_info, device_type, kind, complete, shader_override, report_digest)
+         VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14) RETURNING id",
+        &[
+            info.started_unix.into(),
+            (&info.kit_version).into(),
+            info.git_commit.as_deref().into(),
+            info.host.as_deref().into(),
+            info.tag.as_deref().into(),
+            (&a.name).into(),
+            (&a.backend).into(),
+            (&a.driver).into(),
+            (&a.driver_info).into(),
+            (&a.device_type).into(),
+            info.kind.name().into(),
+            i64::from(complete).into(),
+            info.shader_override.as_deref().into(),
+            digest.into(),
+        ],
+    )?
+    .context("inserting the run returned no id")?
+    .int(0)
+}
+
+fn insert_case_run(tx: &mut Transaction, run_id: i64, position: usize, case: &CaseRecord) -> Result<()> {
+    let (params, evidence, metrics, repeats) = (
+        serde_json::to_string(&case.params)?,
+        serde_json::to_string(&case.evidence)?,
+        serde_json::to_string(&case.metrics)?,
+        serde_json::to_string(&case.gpu_ms_repeats)?,
+    );
+    let outcome = outcome_name(case.outcome);
+    let case_run_id = tx
+        .query_one(
+            "INSERT INTO case_runs (run_id, position, name, params, outcome, reason, gpu_ms, wall_ms, attempts, evidence, metrics, gpu_ms_repeats)
+             VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12) RETURNING id",
+            &[
+                run_id.into(),
+                (position as i64).into(),
+                (&case.name).into(),
+                (&params).into(),
+                (&outcome).into(),
+                (&case.reason).into(),
+                case.gpu_ms.into(),
+                case.wall_ms.into(),
+                i64::from(case.attempts).into(),
+                (&evidence).into(),
+                (&metrics).into(),
+                (&repeats).into(),
+            ],
+        )?
+        .context("inserting a case run returned no id")?
+        .int(0)?;
+    for (name, value) in case.numeric_metrics() {
+        tx.execute(
+            "INSERT INTO metrics (case_run_id, name, value) VALUES ($1, $2, $3)",
+            &[case_run_id.into(), (&name).into(), value.into()],
+        )?;
+    }
+    Ok(())
 }
 
 fn case_record(row: &Row, run: i64, location: &str) -> Result<CaseRecord> {
@@ -503,17 +599,38 @@ pub struct HistoryPoint {
     pub value: Option<f64>,
 }
 
-/// Records the run in the database (opened, and so checked, before the run) when it finishes.
+/// Records the run in the database (opened, and so checked, before the run) as it goes: the run
+/// when it starts, each case run as it finishes, the run complete at the end. A run whose process
+/// dies midway keeps what it recorded and stays incomplete.
 pub struct DatabaseSink {
     pub database: Database,
     pub info: RunInfo,
     pub run_id: Option<i64>,
+    recorded: usize,
+}
+
+impl DatabaseSink {
+    pub fn new(database: Database, info: RunInfo) -> Self {
+        Self { database, info, run_id: None, recorded: 0 }
+    }
 }
 
 impl super::run::Sink for DatabaseSink {
-    fn finish(&mut self, report: &Report) -> Result<()> {
-        self.run_id = Some(self.database.record(report, &self.info)?);
+    fn start(&mut self, adapter: &AdapterDescription, _runs: usize) -> Result<()> {
+        self.run_id = Some(self.database.begin_run(adapter, &self.info)?);
         Ok(())
+    }
+
+    fn record(&mut self, record: &CaseRecord) -> Result<()> {
+        let run_id = self.run_id.context("a case run was recorded before the run started")?;
+        self.database.record_case_run(run_id, self.recorded, record)?;
+        self.recorded += 1;
+        Ok(())
+    }
+
+    fn finish(&mut self, _report: &Report) -> Result<()> {
+        let run_id = self.run_id.context("the run finished before it started")?;
+        self.database.finish_run(run_id)
     }
 }
 
@@ -541,6 +658,7 @@ mod tests {
             }],
             diagnostics: Vec::new(),
             shard: None,
+            run: None,
         }
     }
 
@@ -550,18 +668,44 @@ mod tests {
         std::fs::remove_file(&path).ok();
         let location = path.to_str().unwrap();
         let mut db = Database::open(location).unwrap();
-        let first = db.record(&report(), &RunInfo { tag: Some("base".into()), ..Default::default() }).unwrap();
-        let second = db.record(&report(), &RunInfo::default()).unwrap();
+        let base = RunInfo { tag: Some("base".into()), git_commit: Some("abc".into()), ..Default::default() };
+        let first = db.record(&report(), &base, None).unwrap();
+        let second = db.record(&report(), &RunInfo::default(), None).unwrap();
         assert_eq!(db.resolve(&RunRef::parse("latest").unwrap()).unwrap(), second);
         assert_eq!(db.resolve(&RunRef::parse("latest~1").unwrap()).unwrap(), first);
         assert_eq!(db.resolve(&RunRef::parse("tag:base").unwrap()).unwrap(), first);
         assert!(db.resolve(&RunRef::Id(99)).is_err());
         let loaded = db.load(first).unwrap();
-        assert_eq!(serde_json::to_value(&loaded).unwrap(), serde_json::to_value(report()).unwrap());
+        let expected = Report { run: Some(base), ..report() };
+        assert_eq!(serde_json::to_value(&loaded).unwrap(), serde_json::to_value(expected).unwrap());
         drop(db);
         // A schema newer than this kit is refused.
         rusqlite::Connection::open(&path).unwrap().pragma_update(None, "user_version", 99).unwrap();
         assert!(format!("{:#}", Database::open(location).err().unwrap()).contains("schema version 99"));
+        std::fs::remove_file(&path).ok();
+    }
+
+    #[test]
+    fn a_run_recorded_case_by_case_is_incomplete_until_it_finishes_and_latest_means_a_finished_check() {
+        let path = std::env::temp_dir().join(format!("fragkit-db-incomplete-{}.sqlite", std::process::id()));
+        std::fs::remove_file(&path).ok();
+        let mut db = Database::open(path.to_str().unwrap()).unwrap();
+        let check = |kind| RunInfo { kind, ..Default::default() };
+        let finished = db.record(&report(), &check(RunKind::Check), None).unwrap();
+        let killed = db.begin_run(&report().adapter, &check(RunKind::Check)).unwrap();
+        db.record_case_run(killed, 0, &report().cases[0]).unwrap();
+        let bench = db.record(&report(), &check(RunKind::Bench), None).unwrap();
+        // The run whose process died keeps its case run, marked incomplete; `latest` passes over
+        // it and over the bench run.
+        assert_eq!(db.load(killed).unwrap().cases.len(), 1);
+        let runs = db.runs().unwrap();
+        let summary = |id| runs.iter().find(|r| r.id == id).unwrap();
+        assert!(!summary(killed).complete && summary(finished).complete && summary(bench).complete);
+        assert_eq!((summary(bench).kind, summary(killed).case_runs), (RunKind::Bench, 1));
+        assert_eq!(db.resolve(&RunRef::parse("latest").unwrap()).unwrap(), finished);
+        assert_eq!(db.latest_per_adapter().unwrap(), [finished]);
+        db.finish_run(killed).unwrap();
+        assert_eq!(db.resolve(&RunRef::parse("latest").unwrap()).unwrap(), killed);
         std::fs::remove_file(&path).ok();
     }
 

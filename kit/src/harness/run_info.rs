@@ -1,0 +1,125 @@
+//! Where, when and how a run was made, beyond its case records: its kind (a `check`, a `bench`,
+//! an `import` of a report written elsewhere), start time, kit version, the commit the kit was
+//! built from, host, tag, and whether its shaders came from `FRAGKIT_SHADER_DIR` instead of the
+//! built-in copies. Written into the JSON report, so an imported report keeps it.
+
+use anyhow::{Result, bail};
+use serde::{Deserialize, Serialize};
+
+use crate::shaders::SHADER_DIR_ENV;
+
+/// The commit the kit was built from (kit/build.rs), where the build could ask git.
+pub const BUILD_COMMIT: Option<&str> = option_env!("FRAGKIT_GIT_COMMIT");
+
+/// What made a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RunKind {
+    /// `fragkit check`: verdicts.
+    #[default]
+    Check,
+    /// `fragkit bench`: timings of the techniques.
+    Bench,
+    /// `fragkit import`: a report recorded after the fact.
+    Import,
+}
+
+impl RunKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Check => "check",
+            Self::Bench => "bench",
+            Self::Import => "import",
+        }
+    }
+
+    pub fn parse(text: &str) -> Result<Self> {
+        Ok(match text {
+            "check" => Self::Check,
+            "bench" => Self::Bench,
+            "import" => Self::Import,
+            other => bail!("run kind {other:?}: expected check, bench or import"),
+        })
+    }
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RunInfo {
+    #[serde(default)]
+    pub kind: RunKind,
+    pub started_unix: i64,
+    pub kit_version: String,
+    #[serde(default)]
+    pub git_commit: Option<String>,
+    #[serde(default)]
+    pub host: Option<String>,
+    #[serde(default)]
+    pub tag: Option<String>,
+    /// The folder shaders were read from (`FRAGKIT_SHADER_DIR`) where not the built-in copies:
+    /// such a run measured other shaders than its commit's.
+    #[serde(default)]
+    pub shader_override: Option<String>,
+}
+
+impl RunInfo {
+    /// This process's run of `kind`: now, this kit's version and build commit, this host, the
+    /// shader override in force.
+    pub fn now(kind: RunKind, tag: Option<String>) -> Self {
+        let started_unix =
+            std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs() as i64);
+        let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
+            .ok()
+            .or_else(|| std::env::var("HOSTNAME").ok())
+            .map(|h| h.trim().to_owned());
+        Self {
+            kind,
+            started_unix,
+            kit_version: env!("CARGO_PKG_VERSION").to_owned(),
+            git_commit: BUILD_COMMIT.map(str::to_owned),
+            host,
+            tag,
+            shader_override: std::env::var_os(SHADER_DIR_ENV).map(|dir| dir.to_string_lossy().into_owned()),
+        }
+    }
+
+    /// A report's run, recorded now by `import`: when, where and from what it ran are the
+    /// report's (where it says; a report written before it did is recorded as imported now).
+    pub fn imported(recorded: Option<&RunInfo>, tag: Option<String>) -> Self {
+        let now = Self::now(RunKind::Import, None);
+        match recorded {
+            Some(run) => Self { kind: RunKind::Import, tag: tag.or_else(|| run.tag.clone()), ..run.clone() },
+            None => Self { git_commit: None, shader_override: None, tag, ..now },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn kinds_round_trip_and_unknown_ones_are_refused() {
+        for kind in [RunKind::Check, RunKind::Bench, RunKind::Import] {
+            assert_eq!(RunKind::parse(kind.name()).unwrap(), kind);
+        }
+        assert!(RunKind::parse("soak").is_err());
+    }
+
+    #[test]
+    fn an_imported_report_keeps_when_and_from_what_it_ran() {
+        let ran = RunInfo {
+            started_unix: 7,
+            git_commit: Some("abc".into()),
+            tag: Some("nightly".into()),
+            ..Default::default()
+        };
+        let imported = RunInfo::imported(Some(&ran), None);
+        assert_eq!(
+            (imported.kind, imported.started_unix, imported.git_commit.as_deref()),
+            (RunKind::Import, 7, Some("abc"))
+        );
+        assert_eq!(imported.tag.as_deref(), Some("nightly"));
+        let unknown = RunInfo::imported(None, Some("t".into()));
+        assert_eq!((unknown.kind, unknown.git_commit, unknown.tag.as_deref()), (RunKind::Import, None, Some("t")));
+    }
+}
