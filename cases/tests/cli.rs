@@ -502,6 +502,65 @@ fn a_killed_run_stays_incomplete_the_commit_is_the_builds_and_an_import_happens_
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// The CI outputs: a baseline written from a run with a broken case holds a later run with the
+/// same break to 0 unexpected failures and makes a fixed one an unexpected pass; only the failed
+/// case runs again with --rerun-failed; --github annotates the failure and writes a step summary.
+#[test]
+fn a_baseline_holds_the_next_run_rerun_failed_runs_the_failures_and_github_gets_annotations() {
+    let dir = std::env::temp_dir().join(format!("fragkit-baseline-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    let shaders = dir.join("shaders");
+    copy_tree(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders"), &shaders);
+    let hash = shaders.join("common/hash.wgsl");
+    let text = std::fs::read_to_string(&hash).unwrap().replace("+ 2891336453u", "+ 2891336451u");
+    std::fs::write(&hash, text).unwrap();
+    let (report, baseline, summary) = (dir.join("run.json"), dir.join("baseline.toml"), dir.join("summary.md"));
+    let broken = |args: &[&str]| {
+        let output = Command::new(env!("CARGO_BIN_EXE_fragkit"))
+            .args(args)
+            .env("FRAGKIT_SHADER_DIR", &shaders)
+            .env("GITHUB_STEP_SUMMARY", &summary)
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&output.stdout).into_owned() + &String::from_utf8_lossy(&output.stderr);
+        (output.status.code().unwrap_or(-1), text)
+    };
+    let cases = ["kit.hash.values", "cbr.layout.mapping"];
+    let (code, text) = broken(
+        &[
+            &["check", "--github", "--json", report.to_str().unwrap()][..],
+            &["--write-baseline", baseline.to_str().unwrap()],
+            &cases,
+        ]
+        .concat(),
+    );
+    assert_eq!(code, 1, "{text}");
+    assert_eq!(text.matches("::error title=kit.hash.values FAIL on ").count(), 1, "{text}");
+    let written = std::fs::read_to_string(&summary).unwrap();
+    assert!(written.contains("2 case runs: 1 unexpected failure.") && written.contains("| `kit.hash.values` | FAIL |"));
+
+    // The same break against the baseline: known; the fix against it: an unexpected pass.
+    let (code, text) = broken(&[&["check", "--baseline", baseline.to_str().unwrap()][..], &cases].concat());
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("known_issue") && text.contains("0 unexpected failures"), "{text}");
+    let (code, text) = fragkit(&[&["check", "--baseline", baseline.to_str().unwrap()][..], &cases].concat());
+    assert_eq!(code, 1, "{text}");
+    assert!(text.contains("UNEXPECTED_PASS"), "{text}");
+
+    // Only the failure runs again, with the parameters it ran with.
+    let again = dir.join("again.json");
+    let (code, text) =
+        fragkit(&["check", "--rerun-failed", report.to_str().unwrap(), "--json", again.to_str().unwrap()]);
+    assert_eq!(code, 0, "the fixed shaders pass: {text}");
+    let rerun: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&again).unwrap()).unwrap();
+    let names: Vec<&str> = rerun["cases"].as_array().unwrap().iter().map(|c| c["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["kit.hash.values"], "{rerun}");
+    let (code, text) = fragkit(&["check", "--rerun-failed", again.to_str().unwrap()]);
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("nothing to run"), "{text}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// A fresh, empty PostgreSQL database named `name` on the server `.ci/run` starts (its URL in
 /// FRAGKIT_TEST_POSTGRES, from `bash .ci/postgres`). Without one the PostgreSQL tests are skipped
 /// with a note, except under CI, where they must run.

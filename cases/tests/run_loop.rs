@@ -17,6 +17,7 @@ const FLAKY: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[],
     sweep: &[],
+    budget_s: 1,
     run: |_| {
         Ok(if FLAKY_CALLS.fetch_add(1, Ordering::SeqCst) == 0 {
             Outcome::Fail("first run".into())
@@ -32,6 +33,7 @@ const BROKEN: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[],
     sweep: &[],
+    budget_s: 1,
     run: |_| Ok(Outcome::Fail("always".into())),
 };
 

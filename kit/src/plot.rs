@@ -1,6 +1,6 @@
 //! Plots (PNG): trade-offs of error against time (one line per method through its sweep, a
 //! distinct colour and marker per method, the error on a log axis, the Pareto front marked) and
-//! histories (one line per series over runs, marked points). Text uses the bundled DejaVu Sans
+//! histories (one line per series over whole runs: spreads, failing runs, driver changes). Text uses the bundled DejaVu Sans
 //! (kit/fonts), so no system fonts are needed.
 
 use std::path::Path;
@@ -104,48 +104,6 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
     front
 }
 
-/// The chart every plot draws into: 960×640, white, title and axis labels, the given ranges.
-type Chart<'a, 'b> = ChartContext<
-    'a,
-    BitMapBackend<'b>,
-    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
->;
-
-/// Sets up a chart, lets `draw` add the series (each with its legend entry), draws the legend and
-/// writes the PNG.
-fn chart_png(
-    path: &Path,
-    title: &str,
-    (x_label, y_label): (&str, &str),
-    (x_range, y_range): (std::ops::Range<f64>, std::ops::Range<f64>),
-    draw: impl FnOnce(&mut Chart) -> Result<()>,
-) -> Result<()> {
-    png(path, |root| {
-        let mut chart = ChartBuilder::on(root)
-            .caption(title, ("sans-serif", 24))
-            .margin(16)
-            .x_label_area_size(48)
-            .y_label_area_size(72)
-            .build_cartesian_2d(x_range, y_range)
-            .map_err(|e| anyhow!("{e}"))?;
-        chart
-            .configure_mesh()
-            .x_desc(x_label)
-            .y_desc(y_label)
-            .label_style(("sans-serif", 14))
-            .draw()
-            .map_err(|e| anyhow!("{e}"))?;
-        draw(&mut chart)?;
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(|e| anyhow!("{e}"))
-    })
-}
-
 /// Draws on a white 960×640 canvas with the kit's font and writes it to `path` as PNG.
 fn png(
     path: &Path,
@@ -243,40 +201,99 @@ pub fn tradeoff(path: &Path, title: &str, x_label: &str, y_label: &str, points: 
     })
 }
 
-/// One line of a history plot: its points (x, y) and the x of points to mark (a driver change).
+/// One run's point in a history plot.
 #[derive(Clone, Debug)]
-pub struct PlotLine {
-    pub series: String,
-    pub points: Vec<(f64, f64)>,
-    pub marked: Vec<f64>,
+pub struct RunPoint {
+    pub run: i64,
+    pub value: f64,
+    /// The lowest and highest value behind it (repeats, case runs): drawn as an error bar.
+    pub spread: Option<(f64, f64)>,
+    /// A case run of it failed: drawn as a red ring.
+    pub failed: bool,
+    /// Its driver differs from the series' previous run: drawn as a cross.
+    pub driver_changed: bool,
 }
 
-/// Writes a line plot of `lines` to `path` (PNG, 960×640); marked points are drawn as crosses.
-pub fn lines(path: &Path, title: &str, x_label: &str, y_label: &str, lines: &[PlotLine]) -> Result<()> {
-    let all: Vec<(f64, f64)> =
-        lines.iter().flat_map(|l| l.points.iter().copied()).filter(|(x, y)| x.is_finite() && y.is_finite()).collect();
-    let (min_x, max_x) = all.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(x, _)| (a.min(x), b.max(x)));
-    let (min_x, max_x) = if min_x.is_finite() { (min_x - 0.5, max_x + 0.5) } else { (0.0, 1.0) };
-    let max_y = all.iter().map(|&(_, y)| y).fold(0.0, f64::max).max(1e-3) * 1.1;
-    chart_png(path, title, (x_label, y_label), (min_x..max_x, 0.0..max_y), |chart| {
-        for (i, line) in lines.iter().enumerate() {
+/// One series (adapter) of a history plot.
+#[derive(Clone, Debug)]
+pub struct HistorySeries {
+    pub name: String,
+    pub points: Vec<RunPoint>,
+}
+
+/// Writes a history plot to `path` (PNG, 960×640): a line per series over whole run ids (ticks
+/// only at integers), each run's spread as a bar, failing runs ringed in red, driver changes
+/// crossed; the legend in headroom above the data, with entries for the marks that occur.
+pub fn history(path: &Path, title: &str, y_label: &str, series: &[HistorySeries]) -> Result<()> {
+    let points = || series.iter().flat_map(|s| s.points.iter());
+    let (first, last) = points().fold((i64::MAX, i64::MIN), |(a, b), p| (a.min(p.run), b.max(p.run)));
+    let (first, last) = if first <= last { (first, last) } else { (0, 1) };
+    let top = points().map(|p| p.spread.map_or(p.value, |(_, high)| high.max(p.value))).fold(0.0, f64::max).max(1e-3);
+    // Headroom for the legend: the data stays in the lower 70 %.
+    let entries = series.len() + 2;
+    let y_max = top / (1.0 - (0.08 * entries as f64).min(0.45));
+    let x_range = (first as f64 - 0.5)..(last as f64 + 0.5);
+    register_font()?;
+    png(path, |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, ("sans-serif", 22))
+            .margin(16)
+            .x_label_area_size(48)
+            .y_label_area_size(72)
+            .build_cartesian_2d(x_range, 0.0..y_max)
+            .map_err(|e| anyhow!("{e}"))?;
+        let runs = (last - first + 1) as usize;
+        chart
+            .configure_mesh()
+            .x_desc("run")
+            .y_desc(y_label)
+            .x_labels(runs.min(24) + 1)
+            .x_label_formatter(&|x| if x.fract().abs() < 1e-9 { format!("{x:.0}") } else { String::new() })
+            .label_style(("sans-serif", 14))
+            .draw()
+            .map_err(|e| anyhow!("{e}"))?;
+        for (i, line) in series.iter().enumerate() {
             let colour = PALETTE[i % PALETTE.len()];
-            let data: Vec<(f64, f64)> =
-                line.points.iter().copied().filter(|(x, y)| x.is_finite() && y.is_finite()).collect();
+            let data: Vec<(f64, f64)> = line.points.iter().map(|p| (p.run as f64, p.value)).collect();
             chart
                 .draw_series(LineSeries::new(data.clone(), colour.stroke_width(2)))
                 .map_err(|e| anyhow!("{e}"))?
-                .label(line.series.as_str())
+                .label(line.name.as_str())
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], colour.stroke_width(2)));
+            chart
+                .draw_series(line.points.iter().filter_map(|p| {
+                    let x = p.run as f64;
+                    p.spread.map(|(low, high)| PathElement::new(vec![(x, low), (x, high)], colour.stroke_width(1)))
+                }))
+                .map_err(|e| anyhow!("{e}"))?;
             chart
                 .draw_series(data.iter().map(|&(x, y)| Circle::new((x, y), 3, colour.filled())))
                 .map_err(|e| anyhow!("{e}"))?;
-            let marked = data.iter().filter(|(x, _)| line.marked.contains(x));
-            chart
-                .draw_series(marked.map(|&(x, y)| Cross::new((x, y), 8, BLACK.stroke_width(2))))
-                .map_err(|e| anyhow!("{e}"))?;
         }
-        Ok(())
+        let failed: Vec<(f64, f64)> = points().filter(|p| p.failed).map(|p| (p.run as f64, p.value)).collect();
+        if !failed.is_empty() {
+            chart
+                .draw_series(failed.iter().map(|&(x, y)| Circle::new((x, y), 8, RED.stroke_width(2))))
+                .map_err(|e| anyhow!("{e}"))?
+                .label("a case run failed")
+                .legend(|(x, y)| Circle::new((x + 8, y), 5, RED.stroke_width(2)));
+        }
+        let changed: Vec<(f64, f64)> = points().filter(|p| p.driver_changed).map(|p| (p.run as f64, p.value)).collect();
+        if !changed.is_empty() {
+            chart
+                .draw_series(changed.iter().map(|&(x, y)| Cross::new((x, y), 8, BLACK.stroke_width(2))))
+                .map_err(|e| anyhow!("{e}"))?
+                .label("driver changed")
+                .legend(|(x, y)| Cross::new((x + 8, y), 5, BLACK.stroke_width(2)));
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .background_style(WHITE.mix(0.9))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(|e| anyhow!("{e}"))
     })
 }
 
@@ -288,6 +305,24 @@ mod tests {
     fn the_pareto_front_keeps_only_points_nothing_beats_in_both() {
         let points = [(3.0, 0.1), (1.0, 0.5), (2.0, 0.2), (2.5, 0.3), (4.0, 0.1), (5.0, 0.01)];
         assert_eq!(pareto_front(&points), [(1.0, 0.5), (2.0, 0.2), (3.0, 0.1), (5.0, 0.01)]);
+    }
+
+    #[test]
+    fn a_history_plot_draws_spreads_failures_and_driver_changes() {
+        let path = std::env::temp_dir().join(format!("fragkit-history-{}.png", std::process::id()));
+        let point = |run, value, failed, driver_changed| RunPoint {
+            run,
+            value,
+            spread: Some((value * 0.9, value * 1.2)),
+            failed,
+            driver_changed,
+        };
+        let series = [HistorySeries {
+            name: "gpu (vulkan)".into(),
+            points: vec![point(3, 1.0, false, false), point(4, 1.1, true, false), point(7, 0.9, false, true)],
+        }];
+        history(&path, "test", "gpu_ms", &series).unwrap();
+        assert!(std::fs::read(&path).unwrap().starts_with(b"\x89PNG"));
     }
 
     #[test]

@@ -37,6 +37,7 @@ pub const CASE: Case = Case {
         Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (160, 120) } },
         Sweep { param: "lights", range: SweepRange::Count(1, 4096) },
     ],
+    budget_s: 1,
     run,
 };
 

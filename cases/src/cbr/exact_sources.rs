@@ -37,6 +37,7 @@ pub const CASE: Case = Case {
         Sweep { param: "size", range: SweepRange::Size { min: (16, 16), max: (200, 150) } },
         Sweep { param: "frames", range: SweepRange::Count(2, 6) },
     ],
+    budget_s: 1,
     run,
 };
 

@@ -19,6 +19,7 @@ pub const CASE: Case = Case {
         help: "full-resolution sizes",
     }],
     sweep: &[Sweep { param: "sizes", range: SweepRange::Size { min: (2, 2), max: (400, 300) } }],
+    budget_s: 1,
     run,
 };
 

@@ -39,6 +39,7 @@ pub const CASE: Case = Case {
         Sweep { param: "lights", range: SweepRange::Count(1, 4096) },
         Sweep { param: "frames", range: SweepRange::Count(2, 8) },
     ],
+    budget_s: 11,
     run,
 };
 

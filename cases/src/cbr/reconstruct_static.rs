@@ -44,6 +44,7 @@ pub const CASE: Case = Case {
         Sweep { param: "corridor_size", range: SweepRange::Size { min: (8, 8), max: (200, 150) } },
         Sweep { param: "lights", range: SweepRange::Count(1, 4096) },
     ],
+    budget_s: 4,
     run,
 };
 

@@ -23,6 +23,7 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[ParamSpec { name: "size", kind: ParamKind::SizesFrom(2), default: "96x64", help: "screen size" }],
     sweep: &[Sweep { param: "size", range: SweepRange::Size { min: (2, 2), max: (200, 150) } }],
+    budget_s: 1,
     run,
 };
 

@@ -9,8 +9,10 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use fragkit::gpu::{AdapterSelector, Gpu};
 use fragkit::harness::Case;
+use fragkit::harness::baseline::baseline;
 use fragkit::harness::database::{Database, DatabaseSink, RunInfo, RunKind};
 use fragkit::harness::expectations::{BUILT_IN, Expectations};
+use fragkit::harness::github::GithubSink;
 use fragkit::harness::html::{Column, HtmlSink, write_site};
 use fragkit::harness::junit::JunitSink;
 use fragkit::harness::params::parse_overrides;
@@ -24,7 +26,7 @@ use fragkit::harness::stream::StreamSink;
 use super::matrix::{
     ChildEnd, MatrixArgs, Show, arguments_without, check_selection_is_free, log_tail, print_table, run_children,
 };
-use super::supervise::supervise;
+use super::supervise::{CaseTimeout, supervise};
 use super::table::TableSink;
 
 #[derive(clap::Args)]
@@ -50,6 +52,21 @@ pub struct CheckArgs {
     /// Known-issues file (default: the one built in, cases/expectations.toml).
     #[arg(long)]
     expectations: Option<PathBuf>,
+    /// A baseline (`--write-baseline`) to judge the run against, beside the known issues: a
+    /// failure it lists, of the kind it lists, is `known_issue`; repeatable.
+    #[arg(long, value_name = "FILE")]
+    baseline: Vec<PathBuf>,
+    /// Write this run's failures as a baseline for later runs (`--baseline`).
+    #[arg(long, value_name = "FILE")]
+    write_baseline: Option<PathBuf>,
+    /// Run again only the case runs this report (`--json`) counts as failures, each with the
+    /// parameters it ran with.
+    #[arg(long, value_name = "REPORT", conflicts_with_all = ["patterns", "sweep", "sets", "shard"])]
+    rerun_failed: Option<PathBuf>,
+    /// GitHub Actions outputs: an `::error` annotation per unexpected failure, and a markdown
+    /// summary appended to `$GITHUB_STEP_SUMMARY`.
+    #[arg(long)]
+    github: bool,
     /// Run each case with N parameter sets drawn from its declared ranges (cases without
     /// ranges run once at their defaults); `--set` pins a parameter. Failures print the
     /// command that reproduces them.
@@ -79,10 +96,10 @@ pub struct CheckArgs {
     /// Tag the recorded run (`fragkit compare tag:NAME …`).
     #[arg(long, requires = "db")]
     tag: Option<String>,
-    /// Seconds a case may go without recording before its process is killed and the case
-    /// recorded as `timeout` (the slowest default case takes under a minute on a 2-core CPU).
-    #[arg(long, value_name = "SECONDS", default_value_t = 600, value_parser = clap::value_parser!(u64).range(1..))]
-    timeout: u64,
+    /// Seconds any case may go without recording before its process is killed and the case
+    /// recorded as `timeout` (default: each case's own, 10× its budget and at least 30 s).
+    #[arg(long, value_name = "SECONDS", value_parser = clap::value_parser!(u64).range(1..))]
+    timeout: Option<u64>,
     /// Run as the child of a supervising `check`: stream each record into this file.
     #[arg(long, hide = true)]
     child_stream: Option<PathBuf>,
@@ -115,28 +132,36 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     let overrides = parse_overrides(&args.sets)?;
     check_overrides(&cases, &overrides)?;
     let shard = args.shard.as_deref().map(Shard::parse).transpose()?;
-    let expectations = match &args.expectations {
+    let mut expectations = match &args.expectations {
         Some(path) => Expectations::load(path)?,
         None => Expectations::parse(BUILT_IN, "cases/expectations.toml (built in)")?,
     };
+    for path in &args.baseline {
+        expectations.extend(Expectations::load(path)?);
+    }
+    let rerun = args.rerun_failed.as_deref().map(|path| failed_runs(path, args.flaky_fails)).transpose()?;
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir).with_context(|| format!("creating the evidence folder {}", dir.display()))?;
     }
     if let Some(dir) = &args.html {
         std::fs::create_dir_all(dir).with_context(|| format!("creating the HTML report folder {}", dir.display()))?;
     }
-    for path in args.json.iter().chain(&args.junit) {
+    for path in args.json.iter().chain(&args.junit).chain(&args.write_baseline) {
         check_writable(path)?;
     }
     if let Some(names) = args.matrix.matrix.clone() {
         return check_matrix(selector, &args, &names, &expectations);
     }
     if let Some(stream) = &args.child_stream {
-        return run_child(selector, &args, stream, &cases, &overrides, shard, &expectations);
+        return run_child(selector, &args, stream, &cases, &overrides, shard, rerun.as_deref(), &expectations);
     }
     // Open (and migrate) the database now: a wrong or newer one is refused before the run.
     let database = args.db.as_deref().map(Database::open).transpose()?;
-    let runs = planned_runs(&args, &cases, &overrides, shard);
+    let runs = planned_runs(&args, &cases, &overrides, shard, rerun.as_deref());
+    if runs.is_empty() {
+        println!("nothing to run: the report holds no failures to run again");
+        return Ok(ExitCode::SUCCESS);
+    }
     if let Some(shard) = shard {
         println!("shard {}/{}: {} case runs", shard.index, shard.count, runs.len());
     }
@@ -146,19 +171,30 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     let mut json = args.json.as_deref().map(|path| JsonSink { path, shard, run: info.clone() });
     let mut junit = args.junit.as_deref().map(|path| JunitSink { path, flaky_fails: args.flaky_fails });
     let mut database = database.map(|database| DatabaseSink::new(database, info.clone()));
-    let mut html = args.html.as_deref().map(|dir| HtmlSink { dir, run: info });
+    let mut html = args.html.as_deref().map(|dir| HtmlSink { dir, run: info.clone() });
+    let mut github = args.github.then(|| GithubSink::new(args.flaky_fails));
     // The HTML pages last: they are the most likely to fail, and the others are written by then.
     let mut sinks: Vec<&mut dyn Sink> = vec![&mut table];
     sinks.extend(json.as_mut().map(|sink| sink as &mut dyn Sink));
     sinks.extend(junit.as_mut().map(|sink| sink as &mut dyn Sink));
     sinks.extend(database.as_mut().map(|sink| sink as &mut dyn Sink));
+    sinks.extend(github.as_mut().map(|sink| sink as &mut dyn Sink));
     sinks.extend(html.as_mut().map(|sink| sink as &mut dyn Sink));
     // The child gets this command line without what only the parent writes.
-    let child_arguments = arguments_without(&["--json", "--junit", "--html", "--db", "--tag"], &[]);
-    let timeout = std::time::Duration::from_secs(args.timeout);
+    let child_arguments =
+        arguments_without(&["--json", "--junit", "--html", "--db", "--tag", "--write-baseline"], &["--github"]);
+    let timeout = match args.timeout {
+        Some(seconds) => CaseTimeout::Fixed(std::time::Duration::from_secs(seconds)),
+        None => CaseTimeout::FromBudget,
+    };
     let report = supervise(&runs, &child_arguments, &expectations, timeout, verbose, &mut sinks)?;
     if let Some(DatabaseSink { database, run_id: Some(id), .. }) = &database {
         println!("recorded as run {id} in {}", database.location());
+    }
+    if let Some(path) = &args.write_baseline {
+        std::fs::write(path, baseline(&report, &info))
+            .with_context(|| format!("writing the baseline {}", path.display()))?;
+        println!("baseline of this run's failures: {}", path.display());
     }
     let failures = report.failures(args.flaky_fails);
     println!(
@@ -175,7 +211,11 @@ fn planned_runs<'c>(
     cases: &[&'c Case],
     overrides: &BTreeMap<String, String>,
     shard: Option<Shard>,
+    rerun: Option<&[CaseRun<'c>]>,
 ) -> Vec<CaseRun<'c>> {
+    if let Some(failed) = rerun {
+        return failed.to_vec();
+    }
     let runs = plan_runs(cases, overrides, args.sweep.map(|count| (count, args.seed)));
     match shard {
         Some(shard) => shard.select(runs),
@@ -183,7 +223,24 @@ fn planned_runs<'c>(
     }
 }
 
+/// `--rerun-failed REPORT`: the case runs that report counts as failures, each with the
+/// parameters it ran with.
+fn failed_runs(path: &Path, flaky_fails: bool) -> Result<Vec<CaseRun<'static>>> {
+    let report = Report::read(path)?;
+    let mut runs = Vec::new();
+    for record in report.cases.iter().filter(|c| c.outcome.is_failure(flaky_fails)) {
+        let case = fragkit_cases::ALL
+            .iter()
+            .find(|c| c.name == record.name)
+            .with_context(|| format!("{}: case {} is not one of this kit's", path.display(), record.name))?;
+        let overrides = record.params.iter().map(|(name, value)| (name.clone(), value.to_text())).collect();
+        runs.push(CaseRun { case, overrides });
+    }
+    Ok(runs)
+}
+
 /// The supervised child: runs the case list from `--skip` on one device, streaming each record.
+#[allow(clippy::too_many_arguments)]
 fn run_child(
     selector: &AdapterSelector,
     args: &CheckArgs,
@@ -191,10 +248,11 @@ fn run_child(
     cases: &[&Case],
     overrides: &BTreeMap<String, String>,
     shard: Option<Shard>,
+    rerun: Option<&[CaseRun]>,
     expectations: &Expectations,
 ) -> Result<ExitCode> {
     let gpu = Gpu::open(selector)?;
-    let runs: Vec<CaseRun> = planned_runs(args, cases, overrides, shard).into_iter().skip(args.skip).collect();
+    let runs: Vec<CaseRun> = planned_runs(args, cases, overrides, shard, rerun).into_iter().skip(args.skip).collect();
     for planned in &runs {
         check_sizes(&gpu, &[planned.case], &planned.overrides)?;
     }
@@ -247,6 +305,10 @@ fn check_matrix(
         args.json.is_none() && args.junit.is_none(),
         "with --matrix each configuration writes <reports>/<name>.json and <name>.junit.xml; drop --json/--junit"
     );
+    anyhow::ensure!(
+        args.write_baseline.is_none() && args.rerun_failed.is_none(),
+        "--write-baseline and --rerun-failed take one configuration's run: give them without --matrix, per configuration"
+    );
     let matrix = args.matrix.load()?;
     if let Some(dir) = &args.snapshots {
         std::fs::create_dir_all(dir).with_context(|| format!("creating the snapshot folder {}", dir.display()))?;
@@ -262,7 +324,7 @@ fn check_matrix(
     }
     let inherited = arguments_without(
         &["--matrix", "--adapters-file", "--reports", "--out", "--html", "--backend", "--adapter", "--snapshots"],
-        &["--update-snapshots"],
+        &["--update-snapshots", "--github"],
     );
     let runs = run_children(&matrix, names, reports, Show::Progress, |configuration| {
         let stem = configuration.file_stem();
@@ -313,6 +375,15 @@ fn check_matrix(
         let count = |outcome: ReportedOutcome| report.cases.iter().filter(|c| c.outcome == outcome).count().to_string();
         let unexpected = report.failures(args.flaky_fails);
         failed |= unexpected > 0;
+        if args.github {
+            // The children's own outputs go to their logs: the annotations and summary from here.
+            let mut github = GithubSink::new(args.flaky_fails);
+            github.start(&report.adapter, report.cases.len())?;
+            for case in &report.cases {
+                github.record(case)?;
+            }
+            github.finish(&report)?;
+        }
         for case in report.cases.iter().filter(|c| c.outcome.is_failure(args.flaky_fails)) {
             let reason: String = case.reason.chars().take(240).collect();
             details.push(format!("{name}: {} {}: {reason}", case.run_name(), case.outcome.label()));

@@ -1,12 +1,13 @@
 //! `fragkit history CASE --db PATH [--metric gpu_ms] [--adapter GLOB] --out FILE.png`: a case's
-//! metric over the recorded runs, one line per adapter, driver changes marked with a cross, and
-//! the table behind the plot.
+//! metric over the recorded runs, one line per adapter with each run's spread, failing runs and
+//! driver changes marked, and the table behind the plot.
 
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use fragkit::harness::database::Database;
-use fragkit::plot::{PlotLine, lines};
+use fragkit::harness::readable::number;
+use fragkit::plot::{HistorySeries, RunPoint, history as history_plot};
 
 #[derive(clap::Args)]
 pub struct HistoryArgs {
@@ -38,29 +39,30 @@ pub fn history(args: HistoryArgs) -> Result<()> {
         args.case,
         args.metric
     );
-    println!("| run | adapter | driver | {} |\n|---|---|---|---|", args.metric);
-    let mut plotted: Vec<PlotLine> = Vec::new();
+    println!("| run | adapter | driver | {} | spread | failed |\n|---|---|---|---|---|---|", args.metric);
+    let mut plotted: Vec<HistorySeries> = Vec::new();
     for point in &points {
-        let shown = point.value.map_or("-".into(), |v| format!("{v:.4}"));
-        println!("| {} | {} | {} | {shown} |", point.run_id, point.adapter, point.driver_info);
-        let line = match plotted.iter_mut().position(|l| l.series == point.adapter) {
-            Some(i) => &mut plotted[i],
-            None => {
-                plotted.push(PlotLine { series: point.adapter.clone(), points: Vec::new(), marked: Vec::new() });
-                plotted.last_mut().expect("just pushed")
-            }
-        };
+        let shown = point.value.map_or("-".into(), number);
+        let spread = point.spread.map_or("-".into(), |(low, high)| format!("{}–{}", number(low), number(high)));
+        let failed = if point.failed { "yes" } else { "" };
+        println!("| {} | {} | {} | {shown} | {spread} | {failed} |", point.run_id, point.adapter, point.driver_info);
         let Some(value) = point.value else { continue };
-        let x = point.run_id as f64;
         // A driver change on this adapter since its previous run: marked.
         let previous = points.iter().rev().find(|p| p.run_id < point.run_id && p.adapter == point.adapter);
-        if previous.is_some_and(|p| p.driver_info != point.driver_info) {
-            line.marked.push(x);
+        let run = RunPoint {
+            run: point.run_id,
+            value,
+            spread: point.spread,
+            failed: point.failed,
+            driver_changed: previous.is_some_and(|p| p.driver_info != point.driver_info),
+        };
+        match plotted.iter_mut().find(|s| s.name == point.adapter) {
+            Some(series) => series.points.push(run),
+            None => plotted.push(HistorySeries { name: point.adapter.clone(), points: vec![run] }),
         }
-        line.points.push((x, value));
     }
-    let title = format!("{} {} by run (x: driver changed)", args.case, args.metric);
-    lines(&args.out, &title, "run", &args.metric, &plotted)?;
+    let title = format!("{} {} by run", args.case, args.metric);
+    history_plot(&args.out, &title, &args.metric, &plotted)?;
     println!("{}", args.out.display());
     Ok(())
 }

@@ -2,8 +2,8 @@
 //! shader that never ends or a process killed from outside costs one case, not the run. The child
 //! (`check --child-stream FILE --skip N`) runs the case list from run N and streams each record;
 //! the parent hands the records to its sinks as they come, records the case a child died in as
-//! `crash` (or `timeout`, when no record came for `--timeout` seconds and the parent killed it) and
-//! starts a new child after it, so every output holds every case.
+//! `crash` (or `timeout`, when no record came within the case's time and the parent killed it:
+//! `CaseTimeout`) and starts a new child after it, so every output holds every case.
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
@@ -12,6 +12,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
 use fragkit::gpu::AdapterDescription;
+use fragkit::harness::Case;
 use fragkit::harness::expectations::Expectations;
 use fragkit::harness::params::Params;
 use fragkit::harness::report::{CaseRecord, Report, ReportedOutcome};
@@ -23,6 +24,39 @@ use super::matrix::log_tail;
 
 /// How often the parent looks for new records and a child's end.
 const POLL: Duration = Duration::from_millis(20);
+
+/// How long a case may go without a record before the process running it is killed.
+#[derive(Clone, Copy, Debug)]
+pub enum CaseTimeout {
+    /// `--timeout SECONDS`: the same for every case.
+    Fixed(Duration),
+    /// From each case's own budget (`Case::budget_s`, its slowest wall time at its defaults on
+    /// the matrix): `BUDGET_FACTOR` times it — room for a sweep's larger draws and a loaded
+    /// machine — and never under `SHORTEST`, which covers opening a device in a new child.
+    FromBudget,
+}
+
+const BUDGET_FACTOR: u32 = 10;
+const SHORTEST: Duration = Duration::from_secs(30);
+
+impl CaseTimeout {
+    pub fn of(self, case: &Case) -> Duration {
+        match self {
+            Self::Fixed(timeout) => timeout,
+            Self::FromBudget => SHORTEST.max(Duration::from_secs(u64::from(BUDGET_FACTOR * case.budget_s))),
+        }
+    }
+
+    /// Where a case's timeout came from, for its record.
+    fn origin(self, case: &Case) -> String {
+        match self {
+            Self::Fixed(_) => "--timeout".to_owned(),
+            Self::FromBudget => {
+                format!("{BUDGET_FACTOR}× the case's budget of {} s, at least {} s", case.budget_s, SHORTEST.as_secs())
+            }
+        }
+    }
+}
 
 /// Files of one supervised run, removed when it ends.
 struct Scratch {
@@ -84,7 +118,7 @@ pub fn supervise(
     runs: &[CaseRun],
     arguments: &[OsString],
     expectations: &Expectations,
-    timeout: Duration,
+    timeout: CaseTimeout,
     verbose: bool,
     sinks: &mut [&mut dyn Sink],
 ) -> Result<Report> {
@@ -144,7 +178,9 @@ pub fn supervise(
             if let Some(status) = exited {
                 break Some(Death::Status(status));
             }
-            if last_progress.elapsed() > timeout {
+            // The case now running (or, before the first record, the first): its own time.
+            let allowed = runs.get(done).map_or(SHORTEST, |run| timeout.of(run.case));
+            if last_progress.elapsed() > allowed {
                 child.kill().ok();
                 let _ = child.wait();
                 break Some(Death::TimedOut);
@@ -210,8 +246,6 @@ fn start_child(program: &Path, arguments: &[OsString], scratch: &Scratch, skip: 
         .with_context(|| format!("starting {} for the cases", program.display()))
 }
 
-/// The record of the case a child died in: `crash` or `timeout`, or `known_issue` where the
-/// expectations list that death for this adapter.
 /// A child's death and what its stderr said.
 struct DeathReport {
     death: Death,
@@ -227,12 +261,14 @@ fn last_message(stderr: &str) -> String {
     before_backtrace.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("(nothing on stderr)").to_owned()
 }
 
+/// The record of the case a child died in: `crash` or `timeout`, or `known_issue` where the
+/// expectations list that death for this adapter.
 fn death_record(
     run: &CaseRun,
     report: &DeathReport,
     adapter: &AdapterDescription,
     expectations: &Expectations,
-    timeout: Duration,
+    timeout: CaseTimeout,
 ) -> CaseRecord {
     let DeathReport { death, message: last_error, stderr_tail } = report;
     let (outcome, what) = match death {
@@ -246,7 +282,11 @@ fn death_record(
         }
         Death::TimedOut => (
             ReportedOutcome::Timeout,
-            format!("timeout: no record for {} s; the process running the case was killed", timeout.as_secs()),
+            format!(
+                "timeout: no record for {} s ({}); the process running the case was killed",
+                timeout.of(run.case).as_secs(),
+                timeout.origin(run.case)
+            ),
         ),
     };
     // One problem (the expectations split a failure at "; "), so a known issue can match it.

@@ -24,6 +24,7 @@ pub const CASE: Case = Case {
         Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (200, 150) } },
         Sweep { param: "lights", range: SweepRange::Count(1, 4096) },
     ],
+    budget_s: 1,
     run,
 };
 

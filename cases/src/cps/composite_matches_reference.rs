@@ -31,6 +31,7 @@ pub const CASE: Case = Case {
         Sweep { param: "lights", range: SweepRange::Count(1, 4096) },
         Sweep { param: "max_level", range: SweepRange::Count(0, 8) },
     ],
+    budget_s: 1,
     run,
 };
 

@@ -16,6 +16,7 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[],
     sweep: &[],
+    budget_s: 97,
     run,
 };
 

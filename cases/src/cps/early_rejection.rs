@@ -24,6 +24,7 @@ pub const CASE: Case = Case {
         ParamSpec { name: "repeats", kind: ParamKind::CountIn(1, 1000), default: "3", help: "timed repeats (median)" },
     ],
     sweep: &[],
+    budget_s: 13,
     run,
 };
 

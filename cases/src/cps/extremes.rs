@@ -21,6 +21,7 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[],
     sweep: &[],
+    budget_s: 3,
     run,
 };
 

@@ -29,6 +29,7 @@ pub const CASE: Case = Case {
         Sweep { param: "max_level", range: SweepRange::Count(0, 8) },
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
+    budget_s: 2,
     run,
 };
 

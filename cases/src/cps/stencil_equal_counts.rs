@@ -31,6 +31,7 @@ pub const CASE: Case = Case {
         Sweep { param: "sizes", range: SweepRange::Size { min: (1, 1), max: (300, 200) } },
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
+    budget_s: 3,
     run,
 };
 

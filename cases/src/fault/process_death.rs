@@ -11,6 +11,7 @@ pub const ABORT: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[],
     sweep: &[],
+    budget_s: 1,
     run: abort,
 };
 
@@ -20,6 +21,7 @@ pub const SEGFAULT: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[],
     sweep: &[],
+    budget_s: 1,
     run: segfault,
 };
 

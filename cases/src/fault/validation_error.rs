@@ -11,6 +11,7 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[],
     sweep: &[],
+    budget_s: 1,
     run,
 };
 

@@ -36,6 +36,7 @@ pub const CASE: Case = Case {
         Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (160, 120) } },
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
+    budget_s: 1,
     run,
 };
 

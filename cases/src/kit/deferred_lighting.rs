@@ -27,6 +27,7 @@ pub const CASE: Case = Case {
         Sweep { param: "lights", range: SweepRange::Count(1, 4096) },
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
+    budget_s: 1,
     run,
 };
 

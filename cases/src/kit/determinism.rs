@@ -33,6 +33,7 @@ pub const CASE: Case = Case {
         Sweep { param: "triangles", range: SweepRange::Count(1, 2000) },
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
+    budget_s: 1,
     run,
 };
 

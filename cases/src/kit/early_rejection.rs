@@ -34,6 +34,7 @@ pub const CASE: Case = Case {
         },
     ],
     sweep: &[],
+    budget_s: 8,
     run,
 };
 

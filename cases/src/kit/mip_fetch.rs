@@ -27,6 +27,7 @@ pub const CASE: Case = Case {
         ParamSpec { name: "seed", kind: ParamKind::Count, default: "1", help: "seed of the level maps" },
     ],
     sweep: &[Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) }],
+    budget_s: 1,
     run,
 };
 

@@ -25,6 +25,7 @@ macro_rules! sample_positions_case {
             requires: wgpu::Features::empty(),
             params: &[],
             sweep: &[],
+            budget_s: 1,
             run: |ctx| sample_positions(ctx, $samples),
         };
     };

@@ -28,6 +28,7 @@ pub const CASE: Case = Case {
         Sweep { param: "rects", range: SweepRange::Count(1, 256) },
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
+    budget_s: 1,
     run,
 };
 

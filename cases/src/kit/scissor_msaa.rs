@@ -26,6 +26,7 @@ pub const CASE: Case = Case {
         // At least the default scissor (8, 8, 20, 10) must fit.
         Sweep { param: "size", range: SweepRange::Size { min: (28, 18), max: (400, 300) } },
     ],
+    budget_s: 1,
     run,
 };
 

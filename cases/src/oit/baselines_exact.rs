@@ -37,6 +37,7 @@ pub const CASE: Case = Case {
         Sweep { param: "layers", range: SweepRange::Count(1, 24) },
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
+    budget_s: 1,
     run,
 };
 

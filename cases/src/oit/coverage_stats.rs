@@ -37,6 +37,7 @@ pub const CASE: Case = Case {
         Sweep { param: "size", range: SweepRange::Size { min: (8, 8), max: (128, 128) } },
         Sweep { param: "frames", range: SweepRange::Count(1, 32) },
     ],
+    budget_s: 8,
     run,
 };
 

@@ -18,6 +18,7 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[ParamSpec { name: "size", kind: ParamKind::Sizes, default: "48x48", help: "target size" }],
     sweep: &[Sweep { param: "size", range: SweepRange::Size { min: (4, 4), max: (128, 128) } }],
+    budget_s: 3,
     run,
 };
 

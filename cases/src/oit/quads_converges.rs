@@ -27,6 +27,7 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[ParamSpec { name: "size", kind: ParamKind::Sizes, default: "64x64", help: "target size" }],
     sweep: &[Sweep { param: "size", range: SweepRange::Size { min: (8, 8), max: (128, 128) } }],
+    budget_s: 4,
     run,
 };
 

@@ -16,6 +16,7 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: PARAMS,
     sweep: &[],
+    budget_s: 11,
     run,
 };
 

@@ -20,6 +20,7 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: PARAMS,
     sweep: &[],
+    budget_s: 44,
     run,
 };
 

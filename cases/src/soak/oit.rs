@@ -21,6 +21,7 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: PARAMS,
     sweep: &[],
+    budget_s: 34,
     run,
 };
 

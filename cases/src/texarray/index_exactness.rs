@@ -19,6 +19,7 @@ pub const CASE: Case = Case {
         help: "array texture size (4096x4097 holds 2^24 + 4096 elements)",
     }],
     sweep: &[Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (4096, 4097) } }],
+    budget_s: 2,
     run,
 };
 

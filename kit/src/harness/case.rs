@@ -30,6 +30,10 @@ pub struct Case {
     pub params: &'static [ParamSpec],
     /// The ranges a sweep may draw parameters from (empty: the case runs at its defaults only).
     pub sweep: &'static [Sweep],
+    /// Whole seconds the case takes at its defaults on the slowest configuration of the adapter
+    /// matrix (rounded up from its measured wall time, device opening excluded): what its
+    /// timeout in a supervised run follows from.
+    pub budget_s: u32,
     pub run: fn(&mut Ctx) -> Result<Outcome>,
 }
 
@@ -43,6 +47,7 @@ impl Case {
             requires: wgpu::Features::empty(),
             params: &[],
             sweep: &[],
+            budget_s: 1,
             run: |_| Ok(Outcome::Pass),
         }
     }

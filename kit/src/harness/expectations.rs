@@ -35,6 +35,30 @@ pub struct KnownIssue {
     /// Where the issue shows only on some runs or machines (a heap corruption that needs a CPU's
     /// newer instruction sets to crash): why. With this, a pass is a plain pass anywhere.
     pub intermittent: Option<String>,
+    /// The one kind of failure the entry expects — `fail`, `crash` or `timeout` — as a baseline
+    /// (`check --write-baseline`) records it; absent: any.
+    pub outcome: Option<FailureKind>,
+}
+
+/// Which kind of failure a reason reports: a crash's and a timeout's reasons start so.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FailureKind {
+    Fail,
+    Crash,
+    Timeout,
+}
+
+impl FailureKind {
+    pub fn of(reason: &str) -> Self {
+        if reason.starts_with("crash:") {
+            Self::Crash
+        } else if reason.starts_with("timeout:") {
+            Self::Timeout
+        } else {
+            Self::Fail
+        }
+    }
 }
 
 /// One case glob or several.
@@ -88,6 +112,11 @@ impl Expectations {
         Ok(parsed)
     }
 
+    /// These entries and `other`'s (a baseline beside the known issues).
+    pub fn extend(&mut self, other: Self) {
+        self.known_issues.extend(other.known_issues);
+    }
+
     pub fn load(path: &Path) -> Result<Self> {
         let text =
             std::fs::read_to_string(path).with_context(|| format!("reading expectations file {}", path.display()))?;
@@ -107,7 +136,9 @@ impl Expectations {
         adapter: &AdapterDescription,
         reason: &str,
     ) -> Option<Vec<&'a KnownIssue>> {
-        let listed = self.find(case, adapter);
+        let kind = FailureKind::of(reason);
+        let mut listed = self.find(case, adapter);
+        listed.retain(|issue| issue.outcome.is_none_or(|expected| expected == kind));
         let mut used: Vec<&KnownIssue> = Vec::new();
         for problem in reason.split("; ") {
             let issue = listed.iter().find(|issue| issue.explains(problem))?;

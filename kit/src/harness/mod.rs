@@ -2,12 +2,14 @@
 //! known driver issues, the runner that isolates each case, the run loop that feeds every record
 //! to its sinks, and the JSON and JUnit reports.
 
+pub mod baseline;
 pub mod capability;
 pub mod case;
 pub mod compare;
 pub mod database;
 pub mod diagnostics;
 pub mod expectations;
+pub mod github;
 pub mod html;
 pub mod junit;
 pub mod markup;

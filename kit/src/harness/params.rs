@@ -36,6 +36,18 @@ pub enum ParamValue {
     Sizes(Vec<(u32, u32)>),
 }
 
+impl ParamValue {
+    /// The value as `--set` takes it (`8`, `1,4`, `64x48,7x5`): [`ParamKind::parse`] reads it back.
+    pub fn to_text(&self) -> String {
+        let join = |items: Vec<String>| items.join(",");
+        match self {
+            Self::Count(v) => v.to_string(),
+            Self::Counts(vs) => join(vs.iter().map(u64::to_string).collect()),
+            Self::Sizes(sizes) => join(sizes.iter().map(|(w, h)| format!("{w}x{h}")).collect()),
+        }
+    }
+}
+
 fn parse_count(text: &str) -> Result<u64> {
     text.trim().parse::<u64>().with_context(|| format!("{text:?} is not a non-negative integer"))
 }

@@ -82,6 +82,7 @@ mod tests {
             Sweep { param: "lights", range: SweepRange::Count(1, 4096) },
             Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (300, 200) } },
         ],
+        budget_s: 1,
         run: |_| Ok(Outcome::Pass),
     };
 

@@ -360,38 +360,67 @@ impl Database {
 
     /// Per run holding case `case` (oldest first) on an adapter whose "name (backend)" matches
     /// `adapter` (a glob): the mean of `metric` over its runs of that case — `gpu_ms`, `wall_ms`
-    /// or a flattened metric path such as `foveated.seam_free.seam_error`.
+    /// or a flattened metric path such as `foveated.seam_free.seam_error` — with the spread of
+    /// its values (every repeat's GPU time, every case run's value) and whether any failed.
     pub fn history(&mut self, case: &str, metric: &str, adapter: &glob::Pattern) -> Result<Vec<HistoryPoint>> {
-        let rows = self.store.transaction(|tx| match metric {
-            "gpu_ms" | "wall_ms" => tx.query(
+        let (value, params) = match metric {
+            "gpu_ms" | "wall_ms" => (format!("c.{metric}"), vec![case.into()]),
+            _ => (
+                "(SELECT avg(m.value) FROM metrics m WHERE m.case_run_id = c.id AND m.name = $2)".to_owned(),
+                vec![case.into(), metric.into()],
+            ),
+        };
+        let rows = self.store.transaction(|tx| {
+            tx.query(
                 &format!(
-                    "SELECT r.id, r.started_unix, r.adapter, r.backend, r.driver_info, avg(c.{metric})
+                    "SELECT r.id, r.started_unix, r.adapter, r.backend, r.driver_info, {value}, c.outcome, c.gpu_ms_repeats
                      FROM runs r JOIN case_runs c ON c.run_id = r.id
-                     WHERE c.name = $1 GROUP BY r.id ORDER BY r.id"
+                     WHERE c.name = $1 ORDER BY r.id, c.position"
                 ),
-                &[case.into()],
-            ),
-            _ => tx.query(
-                "SELECT r.id, r.started_unix, r.adapter, r.backend, r.driver_info,
-                    (SELECT avg(m.value) FROM metrics m JOIN case_runs c2 ON m.case_run_id = c2.id
-                      WHERE c2.run_id = r.id AND c2.name = $1 AND m.name = $2)
-                 FROM runs r WHERE EXISTS (SELECT 1 FROM case_runs c WHERE c.run_id = r.id AND c.name = $1)
-                 ORDER BY r.id",
-                &[case.into(), metric.into()],
-            ),
+                &params,
+            )
         })?;
-        let mut points = Vec::new();
+        let mut points: Vec<HistoryPoint> = Vec::new();
+        // Per point: its case runs' values (the mean) and every value and repeat (the spread).
+        let mut values: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
         for r in rows {
-            let point = HistoryPoint {
-                run_id: r.int(0)?,
-                started_unix: r.int(1)?,
-                adapter: adapter_label(&r.text(2)?, &r.text(3)?),
-                driver_info: r.text(4)?,
-                value: r.real(5)?,
-            };
-            if adapter.matches(&point.adapter) {
-                points.push(point);
+            let run_id = r.int(0)?;
+            let label = adapter_label(&r.text(2)?, &r.text(3)?);
+            if !adapter.matches(&label) {
+                continue;
             }
+            if points.last().is_none_or(|p| p.run_id != run_id) {
+                points.push(HistoryPoint {
+                    run_id,
+                    started_unix: r.int(1)?,
+                    adapter: label,
+                    driver_info: r.text(4)?,
+                    value: None,
+                    spread: None,
+                    failed: false,
+                });
+                values.push((Vec::new(), Vec::new()));
+            }
+            let (point, (case_values, spread)) =
+                (points.last_mut().expect("pushed"), values.last_mut().expect("pushed"));
+            let outcome: ReportedOutcome = serde_json::from_value(serde_json::Value::String(r.text(6)?))
+                .with_context(|| format!("run {run_id}'s outcome of {case} in {} does not parse", self.location))?;
+            point.failed |= outcome.is_failure(false);
+            if let Some(v) = r.real(5)? {
+                case_values.push(v);
+                spread.push(v);
+                if metric == "gpu_ms" {
+                    let repeats: Vec<f64> = serde_json::from_str(&r.text(7)?).with_context(|| {
+                        format!("run {run_id}'s GPU time repeats in {} do not parse", self.location)
+                    })?;
+                    spread.extend(repeats);
+                }
+            }
+        }
+        for (point, (case_values, spread)) in points.iter_mut().zip(&values) {
+            point.value = (!case_values.is_empty()).then(|| case_values.iter().sum::<f64>() / case_values.len() as f64);
+            let (low, high) = spread.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+            point.spread = (low < high).then_some((low, high));
         }
         if points.is_empty() {
             bail!("{} holds no run of {case} on an adapter matching {:?}", self.location, adapter.as_str());
@@ -597,6 +626,10 @@ pub struct HistoryPoint {
     pub driver_info: String,
     /// None where the run did not measure it (no timestamps, no such metric).
     pub value: Option<f64>,
+    /// The lowest and highest of the run's values (its repeats, its case runs), where they differ.
+    pub spread: Option<(f64, f64)>,
+    /// Whether a case run of it ended in a failure.
+    pub failed: bool,
 }
 
 /// Records the run in the database (opened, and so checked, before the run) as it goes: the run
