@@ -561,6 +561,67 @@ fn a_baseline_holds_the_next_run_rerun_failed_runs_the_failures_and_github_gets_
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A private PostgreSQL server (`.ci/postgres` with its own folder and port) that this test may
+/// stop and start; None where the suite has no PostgreSQL (as `fresh_postgres_database`).
+fn private_postgres_server(dir: &std::path::Path, port: u16) -> Option<impl Fn(&str) -> String + '_> {
+    std::env::var("FRAGKIT_TEST_POSTGRES").ok().or_else(|| {
+        assert!(std::env::var_os("CI").is_none(), "CI must test the PostgreSQL backend");
+        eprintln!("note: FRAGKIT_TEST_POSTGRES is unset (see .ci/postgres): PostgreSQL test skipped");
+        None
+    })?;
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../.ci/postgres");
+    let dir = dir.to_owned();
+    Some(move |action: &str| {
+        let output = Command::new("bash")
+            .arg(&script)
+            .arg(action)
+            .env("FRAGKIT_PG_DIR", &dir)
+            .env("FRAGKIT_PG_PORT", port.to_string())
+            .output()
+            .unwrap();
+        assert!(output.status.success(), ".ci/postgres {action}: {}", String::from_utf8_lossy(&output.stderr));
+        String::from_utf8_lossy(&output.stdout).trim().to_owned()
+    })
+}
+
+/// D7: the PostgreSQL server goes away once the run has started and comes back seconds later;
+/// the run reconnects, and every case run is recorded and the run complete.
+#[test]
+fn a_run_outlives_a_postgres_restart_and_is_recorded_whole() {
+    let dir = std::env::temp_dir().join(format!("fragkit-pg-restart-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    let server_dir = dir.join("server");
+    let Some(server) = private_postgres_server(&server_dir, 54_339) else { return };
+    let url = server("start");
+    let json = dir.join("run.json");
+    let run = Command::new(env!("CARGO_BIN_EXE_fragkit"))
+        .args(["check", "kit.hash.values", "cbr.layout.mapping", "kit.determinism", "--db", &url])
+        .args(["--json", json.to_str().unwrap()])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Once the database is open and the cases run: the server stops, and starts 3 s later.
+    let started = std::time::Instant::now();
+    while children_of(run.id(), "--child-stream").is_empty() {
+        assert!(started.elapsed().as_secs() < 60, "no case child appeared");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    server("stop");
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    server("start");
+    let output = run.wait_with_output().unwrap();
+    let text = String::from_utf8_lossy(&output.stdout).into_owned() + &String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{text}");
+    assert!(text.contains("recorded as run 1"), "{text}");
+    let (code, text) = fragkit(&["compare", "--db", &url, json.to_str().unwrap(), "latest"]);
+    server("stop");
+    assert_eq!(code, 0, "the run is complete and holds every case run: {text}");
+    assert!(text.contains("0 case runs only in the base, 0 only in the new run"), "{text}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// A fresh, empty PostgreSQL database named `name` on the server `.ci/run` starts (its URL in
 /// FRAGKIT_TEST_POSTGRES, from `bash .ci/postgres`). Without one the PostgreSQL tests are skipped
 /// with a note, except under CI, where they must run.
@@ -618,13 +679,25 @@ fn runs_recorded_in_a_database_compare_and_concurrent_writers_both_land(db: &str
     assert_eq!(text.matches(" % of it; 2 render passes").count(), 3, "{text}");
     assert!(!text.contains("% of ideal"), "{text}");
     assert_eq!(text.matches("(one round: no interval)").count(), 3, "{text}");
-
-    // Two processes importing at once: both runs land.
-    let report = dir.join("report.json");
-    let (code, text) = fragkit(&["check", "kit.hash.values", "--json", report.to_str().unwrap()]);
+    // D4: the bench run is typed; `latest` and the HTML matrix still mean the latest check.
+    let (code, text) = fragkit(&["compare", "--db", db, "tag:new", "latest"]);
     assert_eq!(code, 0, "{text}");
-    let writers: Vec<_> = (0..2)
-        .map(|_| {
+    assert!(text.contains("0 case runs only in the base, 0 only in the new run"), "{text}");
+    let site = dir.join("site");
+    let (code, text) = fragkit(&["html", "--db", db, "--out", site.to_str().unwrap()]);
+    assert_eq!(code, 0, "{text}");
+    let index = std::fs::read_to_string(site.join("index.html")).unwrap();
+    assert!(index.contains("cbr.layout.mapping") && index.contains("check · "), "{index}");
+
+    // Two processes importing two reports at once: both runs land.
+    let reports = [dir.join("report-1.json"), dir.join("report-2.json")];
+    for report in &reports {
+        let (code, text) = fragkit(&["check", "kit.hash.values", "--json", report.to_str().unwrap()]);
+        assert_eq!(code, 0, "{text}");
+    }
+    let writers: Vec<_> = reports
+        .iter()
+        .map(|report| {
             Command::new(env!("CARGO_BIN_EXE_fragkit"))
                 .args(["import", "--db", db, report.to_str().unwrap()])
                 .spawn()

@@ -14,8 +14,8 @@ use fragkit::harness::report::Report;
 
 #[derive(clap::Args)]
 pub struct CompareArgs {
-    /// The base run: a JSON report, or with --db a run id, latest, latest~N, latest@GLOB or
-    /// tag:NAME.
+    /// The base run: a JSON report, several (A.json,B.json,…: runs in separate processes, each
+    /// taken as one repeat), or with --db a run id, latest, latest~N, latest@GLOB or tag:NAME.
     base: String,
     /// The new run, spelled likewise.
     new: String,
@@ -53,6 +53,14 @@ fn load(which: &str, db: Option<&mut Database>) -> Result<(Report, Option<i64>)>
     let path = std::path::Path::new(which);
     if path.is_file() {
         return Ok((Report::read(path)?, None));
+    }
+    if which.contains(',') {
+        // Several runs' reports, one per process: pooled, each a repeat of the side.
+        let reports = which
+            .split(',')
+            .map(|part| Ok((PathBuf::from(part), Report::read(std::path::Path::new(part))?)))
+            .collect::<Result<Vec<_>>>()?;
+        return Ok((Report::pool_processes(reports)?, None));
     }
     let Some(db) = db else {
         anyhow::bail!("{which:?} is no report file; to name a run of a results database, give --db PATH|URL");

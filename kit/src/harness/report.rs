@@ -193,6 +193,60 @@ impl Report {
         })
     }
 
+    /// One run from runs of the same case list in separate processes (`check` N times; for a
+    /// gate, a base and a new build's runs interleaved): each case run's GPU-time repeats become
+    /// the runs' times, one per process — the unit the drift between processes acts on, which
+    /// repeats within one process never see — its time their median, its record the first
+    /// failing run's (else the first run's). Every run must hold the same case runs on one adapter.
+    pub fn pool_processes(reports: Vec<(PathBuf, Report)>) -> Result<Self> {
+        let Some((first_path, first)) = reports.first() else {
+            bail!("nothing to pool: give the runs' reports");
+        };
+        let mut cases = Vec::new();
+        for case in &first.cases {
+            let key = case.run_name();
+            let mut records = Vec::new();
+            for (path, report) in &reports {
+                if report.adapter != first.adapter {
+                    bail!(
+                        "{} ran on another adapter than {}: pooled runs are one adapter's",
+                        path.display(),
+                        first_path.display()
+                    );
+                }
+                let record = report.cases.iter().find(|c| c.run_name() == key).with_context(|| {
+                    format!(
+                        "{} holds no {key}, {} does: pooled runs are of one case list",
+                        path.display(),
+                        first_path.display()
+                    )
+                })?;
+                records.push(record);
+            }
+            let chosen = records.iter().find(|r| r.outcome.is_failure(true)).unwrap_or(&records[0]);
+            let times: Option<Vec<f64>> = records.iter().map(|r| r.gpu_ms).collect();
+            let gpu_ms = times.as_deref().map(|t| {
+                let mut sorted = t.to_vec();
+                sorted.sort_by(f64::total_cmp);
+                let n = sorted.len();
+                if n % 2 == 1 { sorted[n / 2] } else { (sorted[n / 2 - 1] + sorted[n / 2]) / 2.0 }
+            });
+            cases.push(CaseRecord { gpu_ms, gpu_ms_repeats: times.unwrap_or_default(), ..(*chosen).clone() });
+        }
+        for (path, report) in &reports {
+            if report.cases.len() != first.cases.len() {
+                bail!(
+                    "{} holds {} case runs, {} {}: pooled runs are of one case list",
+                    path.display(),
+                    report.cases.len(),
+                    first_path.display(),
+                    first.cases.len()
+                );
+            }
+        }
+        Ok(Self { cases, ..first.clone() })
+    }
+
     /// One report from the shards of a run: every report of the same adapter, no case run with
     /// the same parameters twice, and of reports that say which shard they are (`check --shard`
     /// writes it), every shard 1..=N once.
@@ -250,4 +304,45 @@ pub fn write_through_temporary(path: &Path, text: &str) -> Result<()> {
     let temporary = PathBuf::from(temporary);
     std::fs::write(&temporary, text).with_context(|| format!("writing {}", temporary.display()))?;
     std::fs::rename(&temporary, path).with_context(|| format!("moving {} into place", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn report(times: &[(&str, Option<f64>, ReportedOutcome)]) -> Report {
+        let cases = times
+            .iter()
+            .map(|&(name, gpu_ms, outcome)| CaseRecord {
+                name: name.into(),
+                outcome,
+                reason: String::new(),
+                params: BTreeMap::new(),
+                metrics: BTreeMap::new(),
+                gpu_ms,
+                gpu_ms_repeats: Vec::new(),
+                wall_ms: 1.0,
+                evidence: Vec::new(),
+                attempts: 1,
+                diagnostics: Vec::new(),
+            })
+            .collect();
+        Report { adapter: AdapterDescription::default(), cases, diagnostics: Vec::new(), shard: None, run: None }
+    }
+
+    #[test]
+    fn pooled_runs_make_each_process_one_repeat_and_keep_a_failure() {
+        use ReportedOutcome::{Fail, Pass};
+        let runs = [
+            report(&[("a", Some(3.0), Pass), ("b", None, Pass)]),
+            report(&[("a", Some(1.0), Pass), ("b", None, Fail)]),
+            report(&[("a", Some(2.0), Pass), ("b", None, Pass)]),
+        ];
+        let named = |i: usize| (PathBuf::from(format!("{i}.json")), runs[i].clone());
+        let pooled = Report::pool_processes((0..3).map(named).collect()).unwrap();
+        assert_eq!((pooled.cases[0].gpu_ms, pooled.cases[0].gpu_ms_repeats.clone()), (Some(2.0), vec![3.0, 1.0, 2.0]));
+        assert_eq!((pooled.cases[1].gpu_ms, pooled.cases[1].outcome), (None, Fail));
+        let other = report(&[("a", Some(1.0), Pass)]);
+        assert!(Report::pool_processes(vec![named(0), (PathBuf::from("x.json"), other)]).is_err());
+    }
 }

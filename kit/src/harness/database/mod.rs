@@ -77,8 +77,9 @@ fn migration_sql(migration: &str, dialect: Dialect) -> String {
     migration.replace("{id}", id)
 }
 
-/// The runs `latest`, `tag:` and the matrix mean: finished runs with verdicts (a check, or an
-/// import of one), never a bench run or a run whose process ended midway.
+/// The runs `latest` and the matrix mean: finished runs with verdicts (a check, or an import of
+/// one), never a bench run or a run whose process ended midway (`tag:` names a finished run of
+/// any kind).
 const VERDICT_RUNS: &str = "complete = 1 AND kind <> 'bench'";
 
 /// Serialises PostgreSQL migrations of one database across processes (a transaction-scoped
@@ -146,6 +147,10 @@ impl std::fmt::Display for RunRef {
 pub struct Database {
     store: Store,
     location: String,
+    /// Beside an SQLite file, where a run's evidence images are copied (`runs.sqlite` →
+    /// `runs.evidence/`), so that its pages show them from anywhere, after the run's own folder
+    /// is gone.
+    evidence_dir: Option<std::path::PathBuf>,
 }
 
 fn outcome_name(outcome: ReportedOutcome) -> String {
@@ -172,7 +177,11 @@ impl Database {
     fn open_for(location: &str, access: Access) -> Result<Self> {
         let parsed = Location::parse(location)?;
         let store = Store::open(&parsed, access)?;
-        let mut database = Self { store, location: redact(location) };
+        let evidence_dir = match &parsed {
+            Location::Sqlite(path) => Some(path.with_extension("evidence")),
+            Location::Postgres(_) => None,
+        };
+        let mut database = Self { store, location: redact(location), evidence_dir };
         database.migrate()?;
         Ok(database)
     }
@@ -229,12 +238,44 @@ impl Database {
             .with_context(|| format!("recording the start of the run in {location}"))
     }
 
-    /// Records one finished case run of run `run_id`, in its own transaction.
+    /// Records one finished case run of run `run_id`, in its own transaction. Its evidence is
+    /// recorded by absolute path: the copy beside an SQLite database (`evidence_dir`), or, on a
+    /// server, where the run wrote it.
     pub fn record_case_run(&mut self, run_id: i64, position: usize, case: &CaseRecord) -> Result<()> {
         let location = self.location.clone();
+        let case = &CaseRecord { evidence: self.keep_evidence(run_id, position, &case.evidence)?, ..case.clone() };
         self.store
             .transaction(|tx| insert_case_run(tx, run_id, position, case))
             .with_context(|| format!("recording {} of run {run_id} in {location}", case.run_name()))
+    }
+
+    /// The evidence paths to record: each file copied into `evidence_dir/run-ID/` where there is
+    /// one, else made absolute. A file already gone stays as it was named.
+    fn keep_evidence(
+        &self,
+        run_id: i64,
+        position: usize,
+        evidence: &[std::path::PathBuf],
+    ) -> Result<Vec<std::path::PathBuf>> {
+        let mut kept = Vec::new();
+        for path in evidence {
+            let Ok(absolute) = std::fs::canonicalize(path) else {
+                kept.push(path.clone());
+                continue;
+            };
+            let Some(dir) = &self.evidence_dir else {
+                kept.push(absolute);
+                continue;
+            };
+            let dir = dir.join(format!("run-{run_id}"));
+            std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+            let name = absolute.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+            let copy = dir.join(format!("{position}-{name}"));
+            std::fs::copy(&absolute, &copy)
+                .with_context(|| format!("copying the evidence {} to {}", absolute.display(), copy.display()))?;
+            kept.push(std::fs::canonicalize(&copy)?);
+        }
+        Ok(kept)
     }
 
     /// Marks run `run_id` complete: every case run it planned is recorded.
@@ -306,7 +347,7 @@ impl Database {
                     matching.into_iter().nth(*back as usize)
                 }
                 RunRef::Tag(tag) => tx.query_one(
-                    &format!("SELECT id FROM runs WHERE tag = $1 AND {VERDICT_RUNS} ORDER BY id DESC LIMIT 1"),
+                    "SELECT id FROM runs WHERE tag = $1 AND complete = 1 ORDER BY id DESC LIMIT 1",
                     &[tag.into()],
                 )?,
             };
@@ -634,36 +675,68 @@ pub struct HistoryPoint {
 
 /// Records the run in the database (opened, and so checked, before the run) as it goes: the run
 /// when it starts, each case run as it finishes, the run complete at the end. A run whose process
-/// dies midway keeps what it recorded and stays incomplete.
+/// dies midway keeps what it recorded and stays incomplete. Where the database cannot be written
+/// (a server away longer than its reconnection window), the records wait and are written with
+/// the next one; only at the end is the failure an error, after the JSON report is written.
 pub struct DatabaseSink {
     pub database: Database,
     pub info: RunInfo,
     pub run_id: Option<i64>,
+    adapter: AdapterDescription,
     recorded: usize,
+    pending: Vec<CaseRecord>,
 }
 
 impl DatabaseSink {
     pub fn new(database: Database, info: RunInfo) -> Self {
-        Self { database, info, run_id: None, recorded: 0 }
+        Self { database, info, run_id: None, adapter: AdapterDescription::default(), recorded: 0, pending: Vec::new() }
+    }
+
+    /// Writes the run's start, where not yet written, and every waiting case run.
+    fn flush(&mut self) -> Result<()> {
+        let run_id = match self.run_id {
+            Some(id) => id,
+            None => *self.run_id.insert(self.database.begin_run(&self.adapter, &self.info)?),
+        };
+        while let Some(record) = self.pending.first() {
+            self.database.record_case_run(run_id, self.recorded, record)?;
+            self.pending.remove(0);
+            self.recorded += 1;
+        }
+        Ok(())
+    }
+
+    fn flush_or_wait(&mut self) {
+        if let Err(error) = self.flush() {
+            eprintln!(
+                "note: {} case runs wait to be recorded in {}: {error:#}",
+                self.pending.len(),
+                self.database.location()
+            );
+        }
     }
 }
 
 impl super::run::Sink for DatabaseSink {
     fn start(&mut self, adapter: &AdapterDescription, _runs: usize) -> Result<()> {
-        self.run_id = Some(self.database.begin_run(adapter, &self.info)?);
+        self.adapter = adapter.clone();
+        self.flush_or_wait();
         Ok(())
     }
 
     fn record(&mut self, record: &CaseRecord) -> Result<()> {
-        let run_id = self.run_id.context("a case run was recorded before the run started")?;
-        self.database.record_case_run(run_id, self.recorded, record)?;
-        self.recorded += 1;
+        self.pending.push(record.clone());
+        self.flush_or_wait();
         Ok(())
     }
 
     fn finish(&mut self, _report: &Report) -> Result<()> {
+        let location = self.database.location().to_owned();
+        let unrecorded =
+            || format!("the run could not be recorded in {location}; its JSON report (--json) can be imported later");
+        self.flush().with_context(unrecorded)?;
         let run_id = self.run_id.context("the run finished before it started")?;
-        self.database.finish_run(run_id)
+        self.database.finish_run(run_id).with_context(unrecorded)
     }
 }
 
@@ -726,7 +799,15 @@ mod tests {
         let check = |kind| RunInfo { kind, ..Default::default() };
         let finished = db.record(&report(), &check(RunKind::Check), None).unwrap();
         let killed = db.begin_run(&report().adapter, &check(RunKind::Check)).unwrap();
-        db.record_case_run(killed, 0, &report().cases[0]).unwrap();
+        // Its evidence, written where the run ran, is kept beside the database.
+        let image = std::env::temp_dir().join(format!("fragkit-db-evidence-{}.png", std::process::id()));
+        std::fs::write(&image, b"png").unwrap();
+        let with_evidence = CaseRecord { evidence: vec![image.clone()], ..report().cases[0].clone() };
+        db.record_case_run(killed, 0, &with_evidence).unwrap();
+        std::fs::remove_file(&image).unwrap();
+        let kept = &db.load(killed).unwrap().cases[0].evidence[0];
+        assert!(kept.is_absolute() && kept.starts_with(path.with_extension("evidence")), "{}", kept.display());
+        assert_eq!(std::fs::read(kept).unwrap(), b"png");
         let bench = db.record(&report(), &check(RunKind::Bench), None).unwrap();
         // The run whose process died keeps its case run, marked incomplete; `latest` passes over
         // it and over the bench run.
@@ -740,6 +821,7 @@ mod tests {
         db.finish_run(killed).unwrap();
         assert_eq!(db.resolve(&RunRef::parse("latest").unwrap()).unwrap(), killed);
         std::fs::remove_file(&path).ok();
+        std::fs::remove_dir_all(path.with_extension("evidence")).ok();
     }
 
     #[test]

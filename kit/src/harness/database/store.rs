@@ -96,7 +96,28 @@ pub enum Dialect {
 
 pub enum Store {
     Sqlite(rusqlite::Connection),
-    Postgres(Box<postgres::Client>),
+    Postgres(Box<PostgresConnection>),
+}
+
+/// A PostgreSQL client and what it was opened from, to connect again after the server went away.
+pub struct PostgresConnection {
+    client: postgres::Client,
+    conninfo: String,
+}
+
+/// How long a transaction keeps trying to reach a PostgreSQL server that went away (a restart,
+/// a network drop) before the error stands: long enough for a server restart.
+const RECONNECT_WINDOW: Duration = Duration::from_secs(120);
+
+/// Whether an error is the connection's, not the statement's: worth connecting again for.
+fn is_connection_error(error: &anyhow::Error) -> bool {
+    error.chain().any(|cause| {
+        cause.downcast_ref::<postgres::Error>().is_some_and(|e| {
+            e.is_closed()
+                || e.code().is_some_and(|code| code.code().starts_with("08") || code.code() == "57P01")
+                || std::error::Error::source(e).is_some_and(|s| s.is::<std::io::Error>())
+        })
+    })
 }
 
 /// Where a results database is, parsed from `--db`.
@@ -174,7 +195,7 @@ impl Store {
             Location::Postgres(conninfo) => {
                 let client = postgres::Client::connect(conninfo, postgres::NoTls)
                     .with_context(|| format!("connecting to the results database {}", redact(conninfo)))?;
-                return Ok(Self::Postgres(Box::new(client)));
+                return Ok(Self::Postgres(Box::new(PostgresConnection { client, conninfo: conninfo.clone() })));
             }
             Location::Sqlite(path) => path,
         };
@@ -215,8 +236,9 @@ impl Store {
 
     /// Runs `work` in one transaction, committed when it returns Ok, rolled back otherwise (or
     /// when the process dies first). SQLite takes the write lock at the start, so two writers
-    /// queue rather than deadlock.
-    pub fn transaction<T>(&mut self, work: impl FnOnce(&mut Transaction) -> Result<T>) -> Result<T> {
+    /// queue rather than deadlock. Where a PostgreSQL server went away, the transaction is run
+    /// again on a new connection, retried with backoff for up to `RECONNECT_WINDOW`.
+    pub fn transaction<T>(&mut self, mut work: impl FnMut(&mut Transaction) -> Result<T>) -> Result<T> {
         match self {
             Self::Sqlite(connection) => {
                 let tx = connection.transaction_with_behavior(TransactionBehavior::Immediate)?;
@@ -226,13 +248,30 @@ impl Store {
                 tx.commit().context("committing")?;
                 Ok(result)
             }
-            Self::Postgres(client) => {
-                let tx = client.transaction()?;
-                let mut transaction = Transaction::Postgres(tx);
-                let result = work(&mut transaction)?;
-                let Transaction::Postgres(tx) = transaction else { unreachable!("built as PostgreSQL above") };
-                tx.commit().context("committing")?;
-                Ok(result)
+            Self::Postgres(connection) => {
+                let started = std::time::Instant::now();
+                let mut wait = Duration::from_millis(250);
+                loop {
+                    let attempt = (|| {
+                        let tx = connection.client.transaction()?;
+                        let mut transaction = Transaction::Postgres(tx);
+                        let result = work(&mut transaction)?;
+                        let Transaction::Postgres(tx) = transaction else { unreachable!("built as PostgreSQL above") };
+                        tx.commit().context("committing")?;
+                        Ok(result)
+                    })();
+                    match attempt {
+                        Err(error) if is_connection_error(&error) && started.elapsed() < RECONNECT_WINDOW => {
+                            log::warn!("the results database went away ({error:#}); connecting again in {wait:?}");
+                            std::thread::sleep(wait);
+                            wait = (wait * 2).min(Duration::from_secs(8));
+                            if let Ok(client) = postgres::Client::connect(&connection.conninfo, postgres::NoTls) {
+                                connection.client = client;
+                            }
+                        }
+                        other => return other,
+                    }
+                }
             }
         }
     }
