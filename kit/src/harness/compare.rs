@@ -44,7 +44,7 @@ pub struct RepeatsTest {
 /// change it is one more draw of the same distribution, so the share of earlier times at least as
 /// far out is its p-value (two-sided, (1 + k) / (n + 1) doubled), whatever the distribution. It
 /// catches what repeats within a run cannot: the drift between runs (another day, another
-/// machine state); it needs 2 / alpha − 1 earlier runs to judge at all.
+/// machine state); it needs more than 2 / alpha − 1 earlier runs to judge at all.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct HistoryRank {
     pub runs: usize,
@@ -120,6 +120,16 @@ pub fn repeats_needed(alpha: f64) -> usize {
     (1..).find(|&n| smallest_repeats_p(n, n) < alpha).expect("some number of repeats reaches any alpha > 0")
 }
 
+/// The smallest two-sided rank p-value a history of `n` earlier runs can give.
+pub fn smallest_history_p(n: usize) -> f64 {
+    (2.0 / (n as f64 + 1.0)).min(1.0)
+}
+
+/// Earlier runs a history needs for its rank test to reach below `alpha`.
+pub fn history_needed(alpha: f64) -> usize {
+    (1..).find(|&n| smallest_history_p(n) < alpha).expect("some history reaches any alpha > 0")
+}
+
 /// The history's two-sided rank p-value of `new` among `earlier`.
 fn rank_p(earlier: &[f64], new: f64) -> f64 {
     let n = earlier.len() as f64;
@@ -169,7 +179,7 @@ impl TimeJudgement {
             runs: history.len(),
             median_ms: median(history),
             p: rank_p(history, new_ms),
-            smallest_p: (2.0 / (history.len() as f64 + 1.0)).min(1.0),
+            smallest_p: smallest_history_p(history.len()),
         });
         let evidence = TimeEvidence { repeats, history, not_judged: None };
         let judged = evidence.can_judge(self.alpha);
@@ -349,7 +359,7 @@ impl Comparison {
                 self.alpha,
                 repeats_needed(self.alpha),
                 repeats_needed(self.alpha),
-                (2.0 / self.alpha).ceil() as usize - 1
+                history_needed(self.alpha)
             );
         }
         let mut shown: Vec<&TimeChange> = self.time_changes.iter().filter(|t| t.regression || t.improvement).collect();
@@ -512,6 +522,8 @@ mod tests {
     fn too_few_repeats_for_alpha_cannot_judge_and_say_what_would() {
         assert_eq!(smallest_repeats_p(3, 3), 0.1);
         assert!((smallest_repeats_p(5, 5) - 2.0 / 252.0).abs() < 1e-15);
+        // 2 / (n + 1) must lie below alpha: 40 earlier runs at 0.05, 200 at 0.01.
+        assert_eq!((history_needed(0.05), history_needed(0.01)), (40, 200));
         assert_eq!(repeats_needed(0.01), 5);
         assert_eq!(repeats_needed(0.05), 4);
         // Four times slower on every one of 3 repeats: p = 0.1 at best, no verdict at 0.01.
