@@ -263,7 +263,7 @@ pub fn history(path: &Path, title: &str, y_label: &str, series: &[HistorySeries]
             chart
                 .draw_series(line.points.iter().filter_map(|p| {
                     let x = p.run as f64;
-                    p.spread.map(|(low, high)| PathElement::new(vec![(x, low), (x, high)], colour.stroke_width(1)))
+                    p.spread.map(|(low, high)| PathElement::new(vec![(x, low), (x, high)], colour.stroke_width(3)))
                 }))
                 .map_err(|e| anyhow!("{e}"))?;
             chart

@@ -61,7 +61,7 @@ pub fn history(args: HistoryArgs) -> Result<()> {
             None => plotted.push(HistorySeries { name: point.adapter.clone(), points: vec![run] }),
         }
     }
-    let title = format!("{} {} by run", args.case, args.metric);
+    let title = format!("{} {} by run (bars: the run's spread)", args.case, args.metric);
     history_plot(&args.out, &title, &args.metric, &plotted)?;
     println!("{}", args.out.display());
     Ok(())

@@ -454,7 +454,8 @@ impl Database {
                     let repeats: Vec<f64> = serde_json::from_str(&r.text(7)?).with_context(|| {
                         format!("run {run_id}'s GPU time repeats in {} do not parse", self.location)
                     })?;
-                    spread.extend(repeats);
+                    // The first repeat compiles the case's pipelines: the spread is the warm ones'.
+                    spread.extend(repeats.iter().skip(usize::from(repeats.len() >= 3)));
                 }
             }
         }
@@ -667,7 +668,8 @@ pub struct HistoryPoint {
     pub driver_info: String,
     /// None where the run did not measure it (no timestamps, no such metric).
     pub value: Option<f64>,
-    /// The lowest and highest of the run's values (its repeats, its case runs), where they differ.
+    /// The lowest and highest of the run's values (its warm repeats — all but the first, cold one,
+    /// of three or more — and its case runs), where they differ.
     pub spread: Option<(f64, f64)>,
     /// Whether a case run of it ended in a failure.
     pub failed: bool,
