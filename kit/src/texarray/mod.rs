@@ -1,6 +1,6 @@
 //! A 2D texture used as a 1D array: element k at (k mod w, k div w). The four classic ways to
 //! fetch element k (`shaders/texarray/fetch.wgsl`), and a measurement of which indices each
-//! gets right on an adapter.
+//! gets right on an adapter, held to what each may return by definition (`model`).
 
 use anyhow::{Context, Result, ensure};
 use serde::Serialize;
@@ -8,6 +8,8 @@ use serde::Serialize;
 use crate::fullscreen::{FullscreenPipeline, bind_group, render_to_readback, uniform_buffer};
 use crate::gpu::Gpu;
 use crate::shaders;
+
+pub mod model;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -36,6 +38,9 @@ pub struct VariantResult {
     pub wrong: usize,
     /// The smallest index (of those tried) fetched wrong, with what came back.
     pub first_wrong: Option<(u32, u32)>,
+    /// What came back for each index, in order.
+    #[serde(skip)]
+    pub fetched: Vec<u32>,
 }
 
 /// Test indices: densely around every power of two up to the element count, the last 64
@@ -136,10 +141,10 @@ pub fn measure_index_exactness(gpu: &Gpu, size: (u32, u32), indices: &[u32]) -> 
                     wgpu::TextureFormat::R32Uint,
                     (LIST_WIDTH, rows),
                 )?;
-                let fetched: &[u32] = bytemuck::cast_slice(&result.bytes);
+                let fetched: Vec<u32> = bytemuck::cast_slice(&result.bytes)[..indices.len()].to_vec();
                 let wrong: Vec<(u32, u32)> =
-                    indices.iter().zip(fetched).filter(|(k, f)| k != f).map(|(&k, &f)| (k, f)).collect();
-                Ok(VariantResult { variant, wrong: wrong.len(), first_wrong: wrong.first().copied() })
+                    indices.iter().zip(&fetched).filter(|(k, f)| k != f).map(|(&k, &f)| (k, f)).collect();
+                Ok(VariantResult { variant, wrong: wrong.len(), first_wrong: wrong.first().copied(), fetched })
             })
             .collect::<Result<Vec<_>>>()
             .context("fetching through each variant")
