@@ -69,28 +69,10 @@ pub fn baseline(report: &Report, run: &RunInfo) -> String {
 
 #[cfg(test)]
 mod tests {
-    use std::collections::BTreeMap;
-
     use super::*;
     use crate::gpu::AdapterDescription;
     use crate::harness::expectations::Expectations;
     use crate::harness::report::CaseRecord;
-
-    fn record(name: &str, outcome: ReportedOutcome, reason: &str) -> CaseRecord {
-        CaseRecord {
-            name: name.into(),
-            outcome,
-            reason: reason.into(),
-            params: BTreeMap::new(),
-            metrics: BTreeMap::new(),
-            gpu_ms: None,
-            gpu_ms_repeats: Vec::new(),
-            wall_ms: 1.0,
-            evidence: Vec::new(),
-            attempts: 1,
-            diagnostics: Vec::new(),
-        }
-    }
 
     #[test]
     fn a_baseline_expects_each_failure_again_on_this_adapter_and_nothing_else() {
@@ -103,10 +85,14 @@ mod tests {
         let report = Report {
             adapter: adapter.clone(),
             cases: vec![
-                record("kit.a", ReportedOutcome::Fail, "3 pixels \"differ\"\nmore"),
-                record("kit.b", ReportedOutcome::Crash, "crash: the process running the case was killed by signal 6"),
-                record("kit.c", ReportedOutcome::Pass, ""),
-                record("kit.d", ReportedOutcome::Flaky, "1 pixel"),
+                CaseRecord::for_test("kit.a", ReportedOutcome::Fail, "3 pixels \"differ\"\nmore"),
+                CaseRecord::for_test(
+                    "kit.b",
+                    ReportedOutcome::Crash,
+                    "crash: the process running the case was killed by signal 6",
+                ),
+                CaseRecord::for_test("kit.c", ReportedOutcome::Pass, ""),
+                CaseRecord::for_test("kit.d", ReportedOutcome::Flaky, "1 pixel"),
             ],
             diagnostics: Vec::new(),
             shard: None,

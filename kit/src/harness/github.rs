@@ -96,26 +96,12 @@ impl super::run::Sink for GithubSink {
 
 #[cfg(test)]
 mod tests {
-    use std::collections::BTreeMap;
-
     use super::*;
     use crate::harness::report::ReportedOutcome;
 
     #[test]
     fn a_failure_becomes_one_escaped_annotation_and_a_summary_row() {
-        let record = CaseRecord {
-            name: "kit.a".into(),
-            outcome: ReportedOutcome::Fail,
-            reason: "50% off: 3, 4\nsecond line".into(),
-            params: BTreeMap::new(),
-            metrics: BTreeMap::new(),
-            gpu_ms: None,
-            gpu_ms_repeats: Vec::new(),
-            wall_ms: 1.0,
-            evidence: Vec::new(),
-            attempts: 1,
-            diagnostics: Vec::new(),
-        };
+        let record = CaseRecord::for_test("kit.a", ReportedOutcome::Fail, "50% off: 3, 4\nsecond line");
         let adapter = AdapterDescription { name: "gpu, one".into(), backend: "vulkan".into(), ..Default::default() };
         assert_eq!(
             annotation(&record, &adapter, false).unwrap(),

@@ -126,19 +126,7 @@ mod tests {
     use crate::gpu::AdapterDescription;
 
     fn record(name: &str, outcome: ReportedOutcome, reason: &str) -> CaseRecord {
-        CaseRecord {
-            name: name.into(),
-            outcome,
-            reason: reason.into(),
-            params: BTreeMap::new(),
-            metrics: BTreeMap::new(),
-            gpu_ms: None,
-            gpu_ms_repeats: Vec::new(),
-            wall_ms: 1500.0,
-            evidence: Vec::new(),
-            attempts: 1,
-            diagnostics: Vec::new(),
-        }
+        CaseRecord { wall_ms: 1500.0, ..CaseRecord::for_test(name, outcome, reason) }
     }
 
     #[test]

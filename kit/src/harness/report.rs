@@ -118,6 +118,26 @@ fn flatten_metric(path: &str, value: &serde_json::Value, out: &mut BTreeMap<Stri
     }
 }
 
+#[cfg(test)]
+impl CaseRecord {
+    /// A record of `name` with nothing measured: for the harness's own tests.
+    pub(crate) fn for_test(name: &str, outcome: ReportedOutcome, reason: &str) -> Self {
+        Self {
+            name: name.into(),
+            outcome,
+            reason: reason.into(),
+            params: BTreeMap::new(),
+            metrics: BTreeMap::new(),
+            gpu_ms: None,
+            gpu_ms_repeats: Vec::new(),
+            wall_ms: 1.0,
+            evidence: Vec::new(),
+            attempts: 1,
+            diagnostics: Vec::new(),
+        }
+    }
+}
+
 impl CaseRecord {
     /// The case run's name: the case's, followed by its parameters (`name [k=v …]`) where it has any.
     pub fn run_name(&self) -> String {
@@ -313,19 +333,7 @@ mod tests {
     fn report(times: &[(&str, Option<f64>, ReportedOutcome)]) -> Report {
         let cases = times
             .iter()
-            .map(|&(name, gpu_ms, outcome)| CaseRecord {
-                name: name.into(),
-                outcome,
-                reason: String::new(),
-                params: BTreeMap::new(),
-                metrics: BTreeMap::new(),
-                gpu_ms,
-                gpu_ms_repeats: Vec::new(),
-                wall_ms: 1.0,
-                evidence: Vec::new(),
-                attempts: 1,
-                diagnostics: Vec::new(),
-            })
+            .map(|&(name, gpu_ms, outcome)| CaseRecord { gpu_ms, ..CaseRecord::for_test(name, outcome, "") })
             .collect();
         Report { adapter: AdapterDescription::default(), cases, diagnostics: Vec::new(), shard: None, run: None }
     }
