@@ -29,6 +29,15 @@ fn cut(text: &str, width: usize) -> String {
     format!("{kept}…")
 }
 
+/// The outcome column: the outcome and, where the case ran more than once (`--retry`), how
+/// many attempts it took.
+fn outcome_cell(record: &fragkit::harness::report::CaseRecord) -> String {
+    match record.attempts {
+        0 | 1 => record.outcome.label().to_owned(),
+        attempts => format!("{} ×{attempts} runs", record.outcome.label()),
+    }
+}
+
 pub fn print_table(report: &Report) {
     // case 34, outcome 15, gpu ms 8, wall ms 8, key metric 16 and the gaps: the reason gets the rest.
     let reason_width = WIDTH - (34 + 1 + 15 + 1 + 8 + 1 + 8 + 2 + 16 + 1);
@@ -40,7 +49,7 @@ pub fn print_table(report: &Report) {
         println!(
             "{:<34} {:<15} {:>8} {:>8.1}  {:<16} {}",
             cut(&c.name, 34),
-            c.outcome.label(),
+            outcome_cell(c),
             gpu_ms,
             c.wall_ms,
             cut(&key_metric(&c.metrics), 16),
@@ -117,5 +126,24 @@ impl Sink for TableSink {
             print_diagnostics_summary(report);
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use fragkit::harness::report::{CaseRecord, ReportedOutcome};
+
+    use super::*;
+
+    #[test]
+    fn the_outcome_column_says_how_many_attempts_a_retried_case_took() {
+        let record: CaseRecord = serde_json::from_value(serde_json::json!({
+            "name": "kit.a", "outcome": "flaky", "reason": "", "params": {}, "metrics": {},
+            "gpu_ms": null, "wall_ms": 1.0, "evidence": [], "attempts": 3
+        }))
+        .unwrap();
+        assert_eq!(outcome_cell(&record), "FLAKY ×3 runs");
+        let once = CaseRecord { attempts: 1, outcome: ReportedOutcome::Pass, ..record };
+        assert_eq!(outcome_cell(&once), "pass");
     }
 }
