@@ -497,7 +497,7 @@ fn a_killed_run_stays_incomplete_the_commit_is_the_builds_and_an_import_happens_
     let (code, text) = fragkit(&["html", "--db", db_arg, "--run", "3", "--out", site.to_str().unwrap()]);
     assert_eq!(code, 0, "{text}");
     let index = std::fs::read_to_string(site.join("index.html")).unwrap();
-    let commit = &fragkit::harness::run_info::BUILD_COMMIT.unwrap_or("unknown")[..10];
+    let commit = fragkit::harness::run_info::BUILD_COMMIT.map_or("commit unknown", |c| &c[..c.len().min(10)]);
     assert!(index.contains("import · 20") && index.contains(commit), "the import keeps its commit: {index}");
     std::fs::remove_dir_all(&dir).ok();
 }
