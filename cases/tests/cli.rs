@@ -592,8 +592,19 @@ fn a_run_outlives_a_postgres_restart_and_is_recorded_whole() {
     std::fs::remove_dir_all(&dir).ok();
     std::fs::create_dir_all(&dir).unwrap();
     let server_dir = dir.join("server");
-    let Some(server) = private_postgres_server(&server_dir, 54_339) else { return };
+    // A port of this run's own, so that a server an earlier failed run left behind is no obstacle.
+    let port = 40_000 + (std::process::id() % 20_000) as u16;
+    let Some(server) = private_postgres_server(&server_dir, port) else { return };
     let url = server("start");
+    // Stopped however the test ends.
+    struct StopOnDrop<F: Fn(&str) -> String>(F);
+    impl<F: Fn(&str) -> String> Drop for StopOnDrop<F> {
+        fn drop(&mut self) {
+            (self.0)("stop");
+        }
+    }
+    let server = StopOnDrop(server);
+    let server = |action: &str| (server.0)(action);
     let json = dir.join("run.json");
     let run = Command::new(env!("CARGO_BIN_EXE_fragkit"))
         .args(["check", "kit.hash.values", "cbr.layout.mapping", "kit.determinism", "--db", &url])
