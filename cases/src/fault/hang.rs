@@ -1,7 +1,8 @@
 //! `fault.hang`: the case never returns, as a driver wait that never ends would. (A shader
 //! cannot stand in for it here: llvmpipe bounds every shader loop, and an endless loop — nested
-//! three deep — came back in 36 ms.) The supervising `check` kills the process after `--timeout`
-//! seconds without a record and records the case as `timeout`.
+//! three deep — came back in 36 ms.) The supervising `check` kills the process once the case's
+//! timeout passes without a record (30 s, the shortest, from its 1 s budget; or `--timeout`) and
+//! records the case as `timeout`.
 
 use anyhow::Result;
 use fragkit::harness::{Case, Ctx, Outcome};

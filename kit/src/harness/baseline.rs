@@ -56,12 +56,7 @@ pub fn baseline(report: &Report, run: &RunInfo) -> String {
         if flaky {
             text.push_str("intermittent = \"flaky in the baseline run: it failed, then passed on a retry\"\n");
         } else {
-            let kind = match FailureKind::of(&case.reason) {
-                FailureKind::Fail => "fail",
-                FailureKind::Crash => "crash",
-                FailureKind::Timeout => "timeout",
-            };
-            let _ = writeln!(text, "outcome = \"{kind}\"");
+            let _ = writeln!(text, "outcome = \"{}\"", FailureKind::of(&case.reason).name());
         }
     }
     text

@@ -41,7 +41,7 @@ pub struct KnownIssue {
 }
 
 /// Which kind of failure a reason reports: a crash's and a timeout's reasons start so.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FailureKind {
     Fail,
@@ -50,6 +50,15 @@ pub enum FailureKind {
 }
 
 impl FailureKind {
+    /// The name an expectations file gives it (`outcome = "…"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Fail => "fail",
+            Self::Crash => "crash",
+            Self::Timeout => "timeout",
+        }
+    }
+
     pub fn of(reason: &str) -> Self {
         if reason.starts_with("crash:") {
             Self::Crash

@@ -116,7 +116,8 @@ pub fn write_site(dir: &Path, columns: &[Column], report_dirs: &[PathBuf]) -> Re
         }
     }
     let mut copier = FileCopier { dir: dir.join("files"), copied: 0 };
-    let mut index = matrix(columns, &order, &cells);
+    let previous = comparisons_with_previous(columns);
+    let mut index = matrix(columns, &order, &cells, &previous);
     for (n, key) in order.iter().enumerate() {
         let body = case_page(columns, &cells[key], &mut copier)?;
         write(&dir.join(format!("case/{n}.html")), &page(key, 1, &body))?;
@@ -129,7 +130,7 @@ pub fn write_site(dir: &Path, columns: &[Column], report_dirs: &[PathBuf]) -> Re
     );
     let index_path = dir.join("index.html");
     write(&index_path, &page("fragkit results", 0, &index))?;
-    write(&dir.join("compare.html"), &page("Comparison", 0, &comparison_page(columns)))?;
+    write(&dir.join("compare.html"), &page("Comparison", 0, &comparison_page(columns, &previous)))?;
     write(&dir.join("reports.html"), &page("Technique reports", 0, &reports_page(report_dirs, &mut copier)?))?;
     Ok(index_path)
 }
@@ -150,18 +151,15 @@ fn remove_earlier_pages(dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// For each column, the case runs that regressed since the column before it on the same adapter.
-fn regressions_since_previous(columns: &[Column]) -> Vec<Vec<String>> {
-    columns
-        .iter()
-        .enumerate()
-        .map(|(i, column)| match previous_on_adapter(columns, i) {
-            Some(before) => compare(&before.report, &column.report, &TimeJudgement::default(), &GpuHistory::default())
-                .regressions
-                .into_iter()
-                .map(|change| change.case)
-                .collect(),
-            None => Vec::new(),
+/// For each column, the column before it on the same adapter and the comparison of the two: what
+/// the matrix marks and the comparison page lists.
+fn comparisons_with_previous(columns: &[Column]) -> Vec<Option<(&Column, Comparison)>> {
+    (0..columns.len())
+        .map(|i| {
+            previous_on_adapter(columns, i).map(|before| {
+                let judgement = TimeJudgement::default();
+                (before, compare(&before.report, &columns[i].report, &judgement, &GpuHistory::default()))
+            })
         })
         .collect()
 }
@@ -207,7 +205,12 @@ fn write(path: &Path, text: &str) -> Result<()> {
     std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
 }
 
-fn matrix(columns: &[Column], order: &[String], cells: &BTreeMap<String, Vec<Option<&CaseRecord>>>) -> String {
+fn matrix(
+    columns: &[Column],
+    order: &[String],
+    cells: &BTreeMap<String, Vec<Option<&CaseRecord>>>,
+    previous: &[Option<(&Column, Comparison)>],
+) -> String {
     let mut html = String::from(
         "<p><label>Filter cases: <input id=\"filter\" type=\"search\" placeholder=\"e.g. cps.\"></label></p>\n<table id=\"matrix\">\n<thead><tr><th>case run</th>",
     );
@@ -215,7 +218,11 @@ fn matrix(columns: &[Column], order: &[String], cells: &BTreeMap<String, Vec<Opt
         html.push_str(&column_heading(column));
     }
     html.push_str("</tr></thead>\n<tbody>\n");
-    let regressed = regressions_since_previous(columns);
+    // Per column, the case runs that regressed since the column before it on the same adapter.
+    let regressed: Vec<Vec<&str>> = previous
+        .iter()
+        .map(|p| p.iter().flat_map(|(_, c)| c.regressions.iter().map(|r| r.case.as_str())).collect())
+        .collect();
     for (n, key) in order.iter().enumerate() {
         let _ = write!(
             html,
@@ -227,7 +234,7 @@ fn matrix(columns: &[Column], order: &[String], cells: &BTreeMap<String, Vec<Opt
             match cell {
                 Some(record) => {
                     let reason = record.reason.lines().next().unwrap_or_default();
-                    let (class, mark) = match regressed.contains(key) {
+                    let (class, mark) = match regressed.contains(&key.as_str()) {
                         true => (format!("{} regressed", outcome_class(record)), " ▼ regressed"),
                         false => (outcome_class(record), ""),
                     };
@@ -344,11 +351,10 @@ fn case_page(columns: &[Column], cells: &[Option<&CaseRecord>], copier: &mut Fil
 }
 
 /// Each run against the one before it on the same adapter (`fragkit compare` for any other pair).
-fn comparison_page(columns: &[Column]) -> String {
+fn comparison_page(columns: &[Column], previous: &[Option<(&Column, Comparison)>]) -> String {
     let mut html = String::new();
-    for (i, column) in columns.iter().enumerate() {
-        let Some(before) = previous_on_adapter(columns, i) else { continue };
-        let comparison = compare(&before.report, &column.report, &TimeJudgement::default(), &GpuHistory::default());
+    for (column, with_previous) in columns.iter().zip(previous) {
+        let Some((before, comparison)) = with_previous else { continue };
         let _ = write!(
             html,
             "<h2>{} against {} ({})</h2>",
@@ -356,7 +362,7 @@ fn comparison_page(columns: &[Column]) -> String {
             escape(&before.label),
             escape(&column.adapter())
         );
-        html.push_str(&comparison_html(&comparison, &before.label, &column.label));
+        html.push_str(&comparison_html(comparison, &before.label, &column.label));
     }
     if html.is_empty() {
         html.push_str("<p>No two runs on one adapter: nothing to compare. Each run is compared with the one before it on the same adapter; <code>fragkit compare</code> compares any two.</p>");
