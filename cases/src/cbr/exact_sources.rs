@@ -1,163 +1,176 @@
-//! `cbr.reconstruct.exact_sources`: two flat rects cross each other over a static rect and a
-//! backdrop, each moving whole pixels a frame (`crossing_rects`). The CPU knows which rect every
-//! pixel shows in frames N and N−1, so it lists exactly which pixels frame N did not sample that
-//! are truly disoccluded (their surface, followed back along its own motion, was hidden in frame
-//! N−1) and which have good history. Wherever a missing pixel and its four neighbours show one
-//! surface (the reconstruction reads motion and depth from the neighbours, so at an edge it cannot
-//! know), CSO must send the disoccluded set — exactly — to the fill, take every other pixel from
-//! the right history texel (its colour is its rect's, within f16 rounding), and report off-screen
-//! sources; sampled pixels must hold their rect's colour. ASO must send every pixel that moved
-//! at least a quarter-resolution pixel to the fill as assumed missing, unless its history is
-//! stale (moved with an object where the pixel does not), and otherwise agree with CSO. Forward
-//! and deferred, each with CSO and ASO.
+//! `cbr.reconstruct.exact_sources`: every pixel of every frame held to the CPU model of the
+//! reconstruction (kit/src/cbr/model.rs, the definition of shaders/cbr/reconstruct.wgsl in f64),
+//! fed with the scene's rects, the camera's pan and the sample placement, never with the GPU's
+//! frames. The scenes (kit/src/cbr/branch_scenes.rs) drive each branch: objects crossing (CSO's
+//! depth test), moving objects under a still occluder (the object-motion pass's depth test),
+//! depth differences at 0.8 and 1.2 of the tolerance, transparent rects (the deferred path's
+//! forward buffer), motion just past, well past and just short of half a pixel (the edge rule),
+//! and camera and object motion together. Frames 0 to frames−1: the first frame, and both phases
+//! with history. Per pixel, the source must be the model's and the colour within the f16 bounds
+//! the model derives; pixels the formats leave open (an edge within the sub-pixel precision of a
+//! sample, a motion within its rounding of a decision) are counted, not checked. Forward and
+//! deferred, each with CSO and ASO.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use anyhow::Result;
+use fragkit::cbr::branch_scenes::branch_scenes;
 use fragkit::cbr::measure::{read_hdr, read_sources};
-use fragkit::cbr::sampling::{CheckerboardPath, sampled_pixels};
-use fragkit::cbr::scene::{PixelRect, crossing_rects};
+use fragkit::cbr::model::{Expected, ReconstructionModel};
+use fragkit::cbr::sampling::CheckerboardPath;
 use fragkit::cbr::{Checkerboard, CheckerboardConfig, Detection, PixelSource, Shading};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::image_compare::{error_mask, side_by_side};
+use fragkit::tonemap::ldr_to_display;
 
 pub const CASE: Case = Case {
     name: "cbr.reconstruct.exact_sources",
-    summary: "CSO sends exactly the truly disoccluded pixels to the fill and takes the rest from history",
+    summary: "every reconstructed pixel's source and colour match the CPU model of the reconstruction",
     requires: wgpu::Features::empty(),
     params: &[
         ParamSpec { name: "size", kind: ParamKind::SizesFrom(16), default: "64x48", help: "screen size" },
         ParamSpec {
             name: "frames",
             kind: ParamKind::CountIn(2, 6),
-            default: "3",
-            help: "frames rendered; the last is measured",
+            default: "4",
+            help: "frames rendered, every one checked",
+        },
+        ParamSpec {
+            name: "tolerance_percent",
+            kind: ParamKind::CountIn(1, 50),
+            default: "5",
+            help: "CSO's relative depth tolerance, percent",
         },
     ],
     sweep: &[
         Sweep { param: "size", range: SweepRange::Size { min: (16, 16), max: (200, 150) } },
         Sweep { param: "frames", range: SweepRange::Count(2, 6) },
+        Sweep { param: "tolerance_percent", range: SweepRange::Count(1, 50) },
     ],
-    budget_s: 1,
+    budget_s: 8,
     run,
 };
-
-/// f16 keeps 11 significant bits, so storing a colour moves it by at most 2^-11 of its value; the
-/// fill's compress/expand round trip adds a few f32 ulps. 2^-10 relative covers both.
-const COLOUR_TOLERANCE: f32 = 1.0 / 1024.0;
-
-/// The rect pixel (x, y) shows in `frame` (front-most by distance), if on screen.
-fn surface(rects: &[PixelRect], x: i64, y: i64, frame: u32) -> Option<usize> {
-    (0..rects.len())
-        .filter(|&i| rects[i].covers(x, y, frame))
-        .min_by(|&a, &b| rects[a].distance.total_cmp(&rects[b].distance))
-}
-
-/// A quarter-resolution pixel, less the reconstruction's edge slack (`QUARTER_PIXEL - EDGE_SLACK`
-/// in reconstruct.wgsl): motion at least this long is judged by CSO's depth test or ASO's
-/// assumption.
-const QUARTER_PIXEL: f64 = 2.0 - 1.0 / 64.0;
-
-/// What the CPU expects of every pixel (row-major) in `frame`, None where the reconstruction
-/// cannot know (a missing pixel whose neighbours show other surfaces).
-fn expected_sources(
-    rects: &[PixelRect],
-    screen: (u32, u32),
-    frame: u32,
-    detection: Detection,
-) -> Vec<Option<PixelSource>> {
-    let (now, before) = (sampled_pixels(screen, frame % 2), sampled_pixels(screen, 1 - frame % 2));
-    let on_screen = |x: i64, y: i64| (0..i64::from(screen.0)).contains(&x) && (0..i64::from(screen.1)).contains(&y);
-    let index = |x: i64, y: i64| (y * i64::from(screen.0) + x) as usize;
-    let expected = |x: i64, y: i64| -> Option<PixelSource> {
-        if now[index(x, y)] {
-            return Some(PixelSource::Current);
-        }
-        let shown = surface(rects, x, y, frame)?;
-        let interior = [(-1, 0), (1, 0), (0, -1), (0, 1)]
-            .iter()
-            .all(|(dx, dy)| on_screen(x + dx, y + dy) && surface(rects, x + dx, y + dy, frame) == Some(shown));
-        if !interior {
-            return None;
-        }
-        let (vx, vy) = rects[shown].velocity;
-        let (bx, by) = (x - i64::from(vx), y - i64::from(vy));
-        Some(if !on_screen(bx, by) {
-            PixelSource::OffScreen
-        } else if !before[index(bx, by)] {
-            if now[index(bx, by)] { PixelSource::JitterCancelled } else { PixelSource::OffScreen }
-        } else {
-            let then = surface(rects, bx, by, frame - 1);
-            let moving = |rect: Option<usize>| rect.is_some_and(|i| rects[i].velocity != (0, 0));
-            let far = f64::from(vx).hypot(f64::from(vy)) >= QUARTER_PIXEL;
-            if moving(then) != moving(Some(shown)) {
-                // History that moved with an object where this pixel does not (or the reverse).
-                PixelSource::Disoccluded
-            } else if far && detection == Detection::Aso {
-                PixelSource::Assumed
-            } else if then != Some(shown) {
-                PixelSource::Disoccluded
-            } else {
-                PixelSource::History
-            }
-        })
-    };
-    (0..i64::from(screen.1))
-        .flat_map(|y| (0..i64::from(screen.0)).map(move |x| (x, y)))
-        .map(|(x, y)| expected(x, y))
-        .collect()
-}
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let path = CheckerboardPath::for_adapter(ctx.gpu);
     ctx.metric("path", path.name());
     let screen = ctx.params.sizes("size")?[0];
     let frames = u32::try_from(ctx.params.count("frames")?)?;
-    let last = frames - 1;
-    let (scene, rects) = crossing_rects(screen);
+    let tolerance = ctx.params.count("tolerance_percent")? as f32 / 100.0;
     let mut problems = Vec::new();
-    for (shading, detection) in
-        Shading::ALL.into_iter().flat_map(|s| [(s, Detection::DEFAULT_CSO), (s, Detection::Aso)])
-    {
-        // Expected: the CPU's account of every pixel whose source it can know.
-        let expected = expected_sources(&rects, screen, last, detection);
-        let mut tally: BTreeMap<String, u64> = BTreeMap::new();
-        for source in &expected {
-            *tally.entry(source.map_or("edge_unknowable", PixelSource::name).into()).or_default() += 1;
-        }
-        let config = CheckerboardConfig { detection, ..CheckerboardConfig::new(screen, path, shading) };
-        let mut checkerboard = Checkerboard::new(ctx.gpu, &scene, config)?;
-        for frame in 0..frames {
-            checkerboard.render(ctx.gpu, frame)?;
-        }
-        let colours = read_hdr(ctx.gpu, &checkerboard.reconstruction.colour)?;
-        let sources = read_sources(ctx.gpu, &checkerboard.reconstruction)?;
-
-        let mut wrong = Vec::new();
-        for y in 0..i64::from(screen.1) {
-            for x in 0..i64::from(screen.0) {
-                let i = (y * i64::from(screen.0) + x) as usize;
-                let Some(expected) = expected[i] else { continue };
-                if sources[i] != expected {
-                    wrong.push(format!("({x}, {y}) {} not {}", sources[i].name(), expected.name()));
-                    continue;
+    let mut seen: BTreeMap<&str, BTreeSet<&str>> = BTreeMap::new();
+    for scene in branch_scenes(screen, tolerance) {
+        for detection in [Detection::Cso { tolerance }, Detection::Aso] {
+            // Expected: the model's account of every pixel of every frame (shading-independent).
+            let model = ReconstructionModel::new(&scene.rects, scene.camera, screen, detection)?;
+            let expected_frames: Vec<Vec<Expected>> = (0..frames).map(|frame| model.frame(frame)).collect();
+            for shading in Shading::ALL {
+                let key = format!("{}.{}.{}", scene.name, shading.name(), detection.name());
+                let config = CheckerboardConfig { detection, ..CheckerboardConfig::new(screen, path, shading) };
+                let mut checkerboard = Checkerboard::new(ctx.gpu, &scene.scene(screen), config)?;
+                let mut tally: BTreeMap<&str, u64> = BTreeMap::new();
+                let mut wrong_pixels = 0;
+                for frame in 0..frames {
+                    // Render, read back, and hold every pixel to the model's account of it.
+                    checkerboard.render(ctx.gpu, frame)?;
+                    let colours = read_hdr(ctx.gpu, &checkerboard.reconstruction.colour)?;
+                    let sources = read_sources(ctx.gpu, &checkerboard.reconstruction)?;
+                    let expected = &expected_frames[frame as usize];
+                    let comparison = Comparison::of(expected, &colours, &sources, screen.0);
+                    for (name, count) in &comparison.tally {
+                        *tally.entry(name).or_default() += count;
+                    }
+                    seen.entry(scene.name).or_default().extend(comparison.known_sources());
+                    if !comparison.differences.is_empty() {
+                        wrong_pixels += comparison.differences.len();
+                        problems.push(format!(
+                            "{key}, frame {frame}: {} pixels differ from the model, e.g. {}",
+                            comparison.differences.len(),
+                            comparison.differences[..comparison.differences.len().min(3)].join("; ")
+                        ));
+                        ctx.evidence_image(
+                            &format!("{key}.frame{frame}"),
+                            &comparison.evidence(screen, expected, &colours)?,
+                        )?;
+                    }
                 }
-                let shown = surface(&rects, x, y, last).expect("every pixel shows the backdrop at least");
-                let (got, albedo) = (&colours[i * 4..i * 4 + 3], rects[shown].albedo);
-                if got.iter().zip(albedo).any(|(g, a)| (g - a).abs() > COLOUR_TOLERANCE * a.max(1.0 / 255.0)) {
-                    wrong.push(format!("({x}, {y}) from {} shows {got:?}, its rect is {albedo:?}", expected.name()));
-                }
+                ctx.metric(&format!("{key}.checked"), &tally);
+                ctx.metric(&format!("{key}.wrong"), wrong_pixels);
             }
         }
-        let key = format!("{}.{}", shading.name(), detection.name());
-        ctx.metric(&format!("{key}.expected"), &tally);
-        ctx.metric(&format!("{key}.wrong"), wrong.len());
-        if !wrong.is_empty() {
-            problems.push(format!(
-                "{key}: {} pixels wrong, e.g. {}",
-                wrong.len(),
-                wrong[..wrong.len().min(4)].join("; ")
-            ));
+    }
+    // The scenes must reach the branches they are built for at this size and tolerance, or a
+    // bug there would pass unseen.
+    for scene in branch_scenes(screen, tolerance) {
+        let missing: Vec<&str> = scene
+            .exercises
+            .iter()
+            .map(|s| s.name())
+            .filter(|s| !seen.get(scene.name).is_some_and(|seen| seen.contains(s)))
+            .collect();
+        if !missing.is_empty() {
+            problems.push(format!("{}: no pixel the model knows came from {}", scene.name, missing.join(", ")));
         }
     }
     Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+}
+
+/// One frame held to the model, pixel by pixel.
+struct Comparison {
+    /// Pixels per source the model knows, and per reason it cannot.
+    tally: BTreeMap<&'static str, u64>,
+    /// Where the GPU's source or colour is not the model's.
+    wrong: Vec<bool>,
+    differences: Vec<String>,
+}
+
+impl Comparison {
+    fn of(expected: &[Expected], colours: &[f32], sources: &[PixelSource], width: u32) -> Self {
+        let mut comparison =
+            Self { tally: BTreeMap::new(), wrong: vec![false; expected.len()], differences: Vec::new() };
+        for (i, expectation) in expected.iter().enumerate() {
+            let (x, y) = (i as u32 % width, i as u32 / width);
+            let (source, colour, bound) = match *expectation {
+                Expected::Known { source, colour, tolerance } => (source, colour, tolerance),
+                Expected::Unknowable(reason) => {
+                    *comparison.tally.entry(reason).or_default() += 1;
+                    continue;
+                }
+            };
+            *comparison.tally.entry(source.name()).or_default() += 1;
+            let got = [0, 1, 2].map(|c| f64::from(colours[i * 4 + c]));
+            // Non-finite colours fail the comparison.
+            let within = got.iter().zip(colour).all(|(g, e)| (g - e).abs() <= bound);
+            let difference = if sources[i] != source {
+                format!("({x}, {y}) {} where the model says {}", sources[i].name(), source.name())
+            } else if !within {
+                format!("({x}, {y}) from {} shows {got:.4?}, the model {colour:.4?} (±{bound:.2e})", source.name())
+            } else {
+                continue;
+            };
+            comparison.differences.push(difference);
+            comparison.wrong[i] = true;
+        }
+        comparison
+    }
+
+    fn known_sources(&self) -> impl Iterator<Item = &'static str> + '_ {
+        let sources = PixelSource::ALL.map(PixelSource::name);
+        self.tally.keys().copied().filter(move |name| sources.contains(name))
+    }
+
+    /// Result, the model's colours (black where it cannot know) and the error mask.
+    fn evidence(&self, screen: (u32, u32), expected: &[Expected], colours: &[f32]) -> Result<image::RgbaImage> {
+        let modelled: Vec<[f32; 3]> = expected
+            .iter()
+            .map(|e| match e {
+                Expected::Known { colour, .. } => colour.map(|c| c as f32),
+                Expected::Unknowable(_) => [0.0; 3],
+            })
+            .collect();
+        let result: Vec<[f32; 3]> = colours.chunks(4).map(|c| [c[0], c[1], c[2]]).collect();
+        let reference = ldr_to_display(screen.0, screen.1, &modelled)?;
+        let result = ldr_to_display(screen.0, screen.1, &result)?;
+        Ok(side_by_side(&result, &reference, &error_mask(&reference, &self.wrong)))
+    }
 }

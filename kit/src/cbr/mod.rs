@@ -3,10 +3,12 @@
 //! the right on alternate frames, so two frames together sample every pixel centre once; a
 //! fragment pass reconstructs full resolution from frames N and N−1.
 
+pub mod branch_scenes;
 pub mod deferred_full_resolution;
 pub mod frame;
 pub mod layout_values;
 pub mod measure;
+pub mod model;
 pub mod pictures;
 pub mod plan;
 pub mod probe;

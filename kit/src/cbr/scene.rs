@@ -167,7 +167,8 @@ fn push_draw(scene: &mut CheckerboardScene, vertices: Vec<CheckerboardVertex>, t
 }
 
 /// A flat-shaded rect facing the camera, in full-resolution pixels of frame 0 (half-open
-/// [x0, x1) × [y0, y1)), at `distance` metres, moving `velocity` whole pixels a frame.
+/// [x0, x1) × [y0, y1)), at `distance` metres, moving `velocity` pixels a frame (any real
+/// amount; the camera's pan comes on top), opaque or (`opacity` < 1) transparent.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PixelRect {
     pub x0: i32,
@@ -175,26 +176,45 @@ pub struct PixelRect {
     pub x1: i32,
     pub y1: i32,
     pub distance: f32,
-    pub velocity: (i32, i32),
+    pub velocity: Vec2,
     /// Multiples of 1/255: exact in every target format.
     pub albedo: [f32; 3],
+    /// 1: opaque; below 1, drawn as a transparent (premultiplied over) after the opaque rects.
+    pub opacity: f32,
 }
 
 impl PixelRect {
-    /// Whether the rect covers pixel (x, y) in frame `frame`.
-    pub fn covers(&self, x: i64, y: i64, frame: u32) -> bool {
-        let (dx, dy) = (i64::from(self.velocity.0) * i64::from(frame), i64::from(self.velocity.1) * i64::from(frame));
-        (i64::from(self.x0) + dx..i64::from(self.x1) + dx).contains(&x)
-            && (i64::from(self.y0) + dy..i64::from(self.y1) + dy).contains(&y)
+    /// An opaque, static rect.
+    pub fn opaque(corners: [i32; 4], distance: f32, albedo: [f32; 3]) -> Self {
+        let [x0, y0, x1, y1] = corners;
+        Self { x0, y0, x1, y1, distance, velocity: Vec2::ZERO, albedo, opacity: 1.0 }
+    }
+
+    pub fn moving(self, velocity: Vec2) -> Self {
+        Self { velocity, ..self }
+    }
+
+    pub fn transparent(self, opacity: f32) -> Self {
+        Self { opacity, ..self }
+    }
+
+    pub fn is_transparent(&self) -> bool {
+        self.opacity < 1.0
     }
 }
 
 /// The camera of the flat-rect scenes: at the origin looking down −z.
-const FLAT_CAMERA: Camera = Camera { eye: Vec3::ZERO, target: Vec3::NEG_Z, fov_y: 1.0, near: 0.1, far: 60.0 };
+pub const FLAT_CAMERA: Camera = Camera { eye: Vec3::ZERO, target: Vec3::NEG_Z, fov_y: 1.0, near: 0.1, far: 60.0 };
 
-/// A scene of `rects` (front-most wins by distance) seen on `screen`, the camera panning
-/// `pan_pixels` a frame; each rect's world velocity moves it exactly its pixel velocity.
-pub fn pixel_rect_scene(name: &str, screen: (u32, u32), rects: &[PixelRect], pan_pixels: Vec2) -> CheckerboardScene {
+/// A scene of `rects` (front-most opaque wins by distance, transparents composited over it far to
+/// near) seen on `screen` by [`FLAT_CAMERA`] moving by `camera_motion` a frame; each rect's world
+/// velocity moves it exactly its pixel velocity.
+pub fn pixel_rect_scene(
+    name: &str,
+    screen: (u32, u32),
+    rects: &[PixelRect],
+    camera_motion: CameraMotion,
+) -> CheckerboardScene {
     let camera = FLAT_CAMERA;
     let mut scene = CheckerboardScene {
         name: name.into(),
@@ -202,27 +222,31 @@ pub fn pixel_rect_scene(name: &str, screen: (u32, u32), rects: &[PixelRect], pan
         draws: Vec::new(),
         lights: Vec::new(),
         camera,
-        camera_motion: CameraMotion { pan_pixels, travel: Vec3::ZERO },
+        camera_motion,
     };
     let world_from_clip = scene.view_projection(0, screen).inverse();
     let (width, height) = (screen.0 as f32, screen.1 as f32);
     let depth_of = |distance: f32| camera.far * (distance - camera.near) / (distance * (camera.far - camera.near));
-    let corner = |x: i32, y: i32, distance: f32| {
-        let ndc = Vec3::new(x as f32 / width * 2.0 - 1.0, 1.0 - y as f32 / height * 2.0, depth_of(distance));
+    let corner = |x: f32, y: f32, distance: f32| {
+        let ndc = Vec3::new(x / width * 2.0 - 1.0, 1.0 - y / height * 2.0, depth_of(distance));
         world_from_clip.project_point3(ndc)
     };
-    for r in rects {
+    // Opaque rects first, then the transparents back to front.
+    let mut order: Vec<&PixelRect> = rects.iter().collect();
+    order.sort_by(|a, b| a.is_transparent().cmp(&b.is_transparent()).then(b.distance.total_cmp(&a.distance)));
+    for r in order {
+        let (x0, y0, x1, y1) = (r.x0 as f32, r.y0 as f32, r.x1 as f32, r.y1 as f32);
         // Counter-clockwise seen from the camera: bottom-left, bottom-right, top-right, top-left.
         let corners = [
-            corner(r.x0, r.y1, r.distance),
-            corner(r.x1, r.y1, r.distance),
-            corner(r.x1, r.y0, r.distance),
-            corner(r.x0, r.y0, r.distance),
+            corner(x0, y1, r.distance),
+            corner(x1, y1, r.distance),
+            corner(x1, y0, r.distance),
+            corner(x0, y0, r.distance),
         ];
         // At a fixed distance the pixel-to-world map is affine, so this is exact up to rounding.
-        let velocity = corner(r.velocity.0, r.velocity.1, r.distance) - corner(0, 0, r.distance);
-        let albedo = [r.albedo[0], r.albedo[1], r.albedo[2], 1.0];
-        push_draw(&mut scene, quad(corners, Vec3::Z, albedo, -1.0), false, velocity);
+        let velocity = corner(r.velocity.x, r.velocity.y, r.distance) - corner(0.0, 0.0, r.distance);
+        let albedo = [r.albedo[0], r.albedo[1], r.albedo[2], r.opacity];
+        push_draw(&mut scene, quad(corners, Vec3::Z, albedo, -1.0), r.is_transparent(), velocity);
     }
     scene
 }
@@ -240,43 +264,12 @@ pub fn flat_rects(screen: (u32, u32), seed: u32, pan_pixels: Vec2) -> Checkerboa
     }
     let rects: Vec<PixelRect> = places
         .into_iter()
-        .map(|(x0, y0, x1, y1, distance)| PixelRect {
-            x0: x0 as i32,
-            y0: y0 as i32,
-            x1: x1 as i32,
-            y1: y1 as i32,
-            distance,
-            velocity: (0, 0),
-            albedo: [rng.range(0, 256), rng.range(0, 256), rng.range(0, 256)].map(|c| c as f32 / 255.0),
+        .map(|(x0, y0, x1, y1, distance)| {
+            let albedo = [rng.range(0, 256), rng.range(0, 256), rng.range(0, 256)].map(|c| c as f32 / 255.0);
+            PixelRect::opaque([x0, y0, x1, y1].map(|c| c as i32), distance, albedo)
         })
         .collect();
-    pixel_rect_scene("flat_rects", screen, &rects, pan_pixels)
-}
-
-/// Two rects crossing each other over a static rect and a backdrop, each moving whole pixels a
-/// frame by at least a quarter-resolution pixel (so CSO's depth test decides): the front one 4
-/// right, the one behind it 2 up and 2 left. The back rect reappears behind the front one's
-/// trailing edge where frame N−1 showed the front rect — moving too, so only the depth test can
-/// refuse that history. Both motions keep a pixel's checkerboard parity, so frame N−1 sampled every
-/// interior pixel's source. Returns the rects for a CPU model.
-pub fn crossing_rects(screen: (u32, u32)) -> (CheckerboardScene, Vec<PixelRect>) {
-    let (w, h) = (screen.0 as f32, screen.1 as f32);
-    let rect = |fx0: f32, fy0: f32, fx1: f32, fy1: f32, distance: f32, velocity: (i32, i32), rgb: [u32; 3]| PixelRect {
-        x0: (fx0 * w).round() as i32,
-        y0: (fy0 * h).round() as i32,
-        x1: (fx1 * w).round() as i32,
-        y1: (fy1 * h).round() as i32,
-        distance,
-        velocity,
-        albedo: rgb.map(|c| c as f32 / 255.0),
-    };
-    let rects = vec![
-        rect(0.0, 0.0, 1.0, 1.0, 40.0, (0, 0), [40, 60, 90]),
-        rect(0.05, 0.6, 0.3, 0.95, 20.0, (0, 0), [200, 180, 40]),
-        rect(0.15, 0.3, 0.8, 0.8, 10.0, (-2, -2), [30, 170, 60]),
-        rect(0.3, 0.15, 0.55, 0.6, 5.0, (4, 0), [220, 50, 70]),
-    ];
-    (pixel_rect_scene("crossing_rects", screen, &rects, Vec2::ZERO), rects)
+    pixel_rect_scene("flat_rects", screen, &rects, CameraMotion { pan_pixels, travel: Vec3::ZERO })
 }
 
 /// Albedo-map repeats per metre on the corridor's floor and walls.

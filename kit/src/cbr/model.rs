@@ -1,0 +1,398 @@
+//! The reconstruction's definition (`shaders/cbr/reconstruct.wgsl`) on the CPU, in f64, fed with
+//! a pixel-rect scene's inputs: every sample's surface, depth, motion and colour follow from the
+//! rects, the camera's pan and the sample placement's definition (`sampling::sampled_pixels`),
+//! never from the GPU's frames. Where the formats or the rasteriser leave a decision open (an edge
+//! within the sub-pixel precision of a sample centre, a motion within its rounding of a decision
+//! boundary, a depth within its rounding of the tolerance) the model says the pixel cannot be
+//! known rather than guess; the cases count such pixels and check the rest exactly.
+
+use glam::Vec2;
+
+use super::reconstruct::{Detection, PixelSource};
+use super::sampling::sampled_pixels;
+use super::scene::{CameraMotion, FLAT_CAMERA, PixelRect};
+
+/// Vulkan, GL and WebGPU promise 4 sub-pixel bits. A quarter-resolution pixel is two full-resolution
+/// pixels wide, so a vertex may snap by 1/16 of a full-resolution pixel; twice that, for the
+/// vertex transform's own rounding, decides nothing within it.
+const EDGE_PRECISION: f64 = 1.0 / 8.0;
+
+/// Object motion is computed in f32 and stored in Rgba16Float (11 significant bits): within
+/// 2^-10 of its length, plus 2^-10 pixel for the projections' rounding. Camera motion (f32
+/// throughout) is held to the same bound.
+fn motion_precision(length: f64) -> f64 {
+    (1.0 + length) / 1024.0
+}
+
+/// Linear depth from a Depth32Float value through f32 arithmetic: within 2^-10 relative at the
+/// flat scenes' distances (at 40 m, 1 ulp of depth is 2.4e-5 of the distance).
+const DEPTH_PRECISION: f64 = 1.0 / 1024.0;
+
+/// Mirrors of the shader's constants (reconstruct.wgsl): a quarter-resolution pixel in
+/// full-resolution pixels, and the slack around the edge between two pixel centres.
+const QUARTER_PIXEL: f64 = 2.0;
+const EDGE_SLACK: f64 = 1.0 / 64.0;
+
+/// The background colour of `shaders/common/lighting.wgsl`, where nothing was drawn.
+const BACKGROUND: [f64; 3] = [0.02, 0.025, 0.035];
+
+/// f16 keeps 11 significant bits: one rounding moves a value by at most 2^-11 of the largest
+/// component involved. A sample's colour is rounded at most four times (the shaded sample, the
+/// transparent blend or forward buffer, the composite, the reconstruction target): 2^-9.
+fn stored_tolerance(peak: f64) -> f64 {
+    peak.max(f64::from(f32::MIN_POSITIVE)) / 512.0
+}
+
+/// The fill averages its neighbours through compress_hdr / expand_hdr: an input error grows by
+/// at most 2 through the compression and (1 + peak)^2 through the expansion.
+fn fill_tolerance(peak: f64) -> f64 {
+    stored_tolerance(peak) * (2.0 * (1.0 + peak) * (1.0 + peak) + 1.0)
+}
+
+/// Pixels per unit of tangent at the flat scenes' camera (`FLAT_CAMERA`): a point d metres away
+/// and x metres aside lies `focal * x / d` pixels from the centre.
+pub fn focal_pixels(screen: (u32, u32)) -> f64 {
+    f64::from(screen.1) / 2.0 / (f64::from(FLAT_CAMERA.fov_y) / 2.0).tan()
+}
+
+/// What one sample of one frame shows, from the rects.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Shown {
+    /// The opaque rect in front, by index.
+    rect: usize,
+    distance: f64,
+    /// Whether that rect moves (its motion is written by the object-motion pass).
+    moving: bool,
+    /// Its screen motion since the previous frame (the rect's velocity plus the camera's pan).
+    motion: [f64; 2],
+    /// The opaque rect's albedo with the transparents in front composited over it.
+    colour: [f64; 3],
+    /// The largest colour component of any term, for the rounding bounds.
+    peak: f64,
+}
+
+/// What the model expects of one reconstructed pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Expected {
+    /// The source, and the colour within `tolerance` (absolute, per component).
+    Known { source: PixelSource, colour: [f64; 3], tolerance: f64 },
+    /// The formats leave it open; the reason says which input.
+    Unknowable(&'static str),
+}
+
+/// Why a pixel cannot be known (metric keys): an input sample lies within the sub-pixel precision
+/// of an edge; the motion lies within its rounding of a decision boundary; the depth difference
+/// lies within its rounding of CSO's tolerance; two neighbours' surfaces lie within depth rounding
+/// of each other.
+pub const NEAR_AN_EDGE: &str = "open.edge_within_sub_pixel_precision";
+pub const NEAR_A_DECISION: &str = "open.motion_within_rounding_of_a_decision";
+pub const NEAR_THE_TOLERANCE: &str = "open.depth_within_rounding_of_the_tolerance";
+pub const FRONT_TIE: &str = "open.front_neighbours_tied";
+
+/// The reconstruction of a pixel-rect scene, frame by frame.
+pub struct ReconstructionModel<'a> {
+    rects: &'a [PixelRect],
+    /// Per rect, its image's motion a frame: its own velocity, the camera's pan and the
+    /// parallax of the camera's sideways travel at its distance.
+    image_motion: Vec<[f64; 2]>,
+    /// The transparent rects' indices, far to near (the order the scene draws them).
+    transparents: Vec<usize>,
+    screen: (u32, u32),
+    detection: Detection,
+    /// Whether the plan specialises for moving objects (any rect moves) and a moving camera.
+    objects_move: bool,
+    camera_moves: bool,
+}
+
+/// One frame's inputs: which pixels it and its predecessor sampled, and what every pixel centre
+/// shows in each.
+struct Frames {
+    frame: u32,
+    now: Vec<bool>,
+    before: Vec<bool>,
+    shown_now: Vec<Option<Shown>>,
+    shown_before: Vec<Option<Shown>>,
+}
+
+/// A missing pixel's decision, for one motion.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Decision {
+    Fill(PixelSource),
+    History((i64, i64)),
+}
+
+impl<'a> ReconstructionModel<'a> {
+    /// The model of `rects` seen by the flat scenes' camera (`FLAT_CAMERA`) moving by `camera`;
+    /// its travel must be sideways (x, y): travel along the view changes a rect's image size.
+    pub fn new(
+        rects: &'a [PixelRect],
+        camera: CameraMotion,
+        screen: (u32, u32),
+        detection: Detection,
+    ) -> anyhow::Result<Self> {
+        anyhow::ensure!(camera.travel.z == 0.0, "the model takes sideways camera travel only, not {}", camera.travel);
+        // A pinhole at the origin: a point d metres away moves focal/d pixels a metre of travel,
+        // against the travel horizontally and (y down on screen) along it vertically.
+        let focal = focal_pixels(screen);
+        let (travel, pan) = (camera.travel.as_dvec3(), camera.pan_pixels.as_dvec2());
+        let image_motion = rects
+            .iter()
+            .map(|r| {
+                let parallax = focal / f64::from(r.distance);
+                let velocity = r.velocity.as_dvec2();
+                [velocity.x + pan.x - travel.x * parallax, velocity.y + pan.y + travel.y * parallax]
+            })
+            .collect();
+        let mut transparents: Vec<usize> = (0..rects.len()).filter(|&i| rects[i].is_transparent()).collect();
+        transparents.sort_by(|&a, &b| rects[b].distance.total_cmp(&rects[a].distance));
+        Ok(Self {
+            rects,
+            image_motion,
+            transparents,
+            screen,
+            detection,
+            objects_move: rects.iter().any(|r| r.velocity != Vec2::ZERO),
+            camera_moves: camera != CameraMotion::default(),
+        })
+    }
+
+    fn on_screen(&self, x: i64, y: i64) -> bool {
+        (0..i64::from(self.screen.0)).contains(&x) && (0..i64::from(self.screen.1)).contains(&y)
+    }
+
+    fn index(&self, x: i64, y: i64) -> usize {
+        (y * i64::from(self.screen.0) + x) as usize
+    }
+
+    /// Where rect `index`'s edges lie in `frame`, in full-resolution pixels.
+    fn edges(&self, index: usize, frame: u32) -> [f64; 4] {
+        let (rect, [mx, my]) = (&self.rects[index], self.image_motion[index]);
+        let (dx, dy) = (mx * f64::from(frame), my * f64::from(frame));
+        [f64::from(rect.x0) + dx, f64::from(rect.y0) + dy, f64::from(rect.x1) + dx, f64::from(rect.y1) + dy]
+    }
+
+    /// Whether rect `index` covers the centre of pixel (x, y) in `frame`; None within the
+    /// rasteriser's precision of an edge.
+    fn covers(&self, index: usize, frame: u32, x: i64, y: i64) -> Option<bool> {
+        let [x0, y0, x1, y1] = self.edges(index, frame);
+        let (cx, cy) = (x as f64 + 0.5, y as f64 + 0.5);
+        let near = [x0, x1].iter().any(|e| (cx - e).abs() <= EDGE_PRECISION) && (y0..y1).contains(&cy)
+            || [y0, y1].iter().any(|e| (cy - e).abs() <= EDGE_PRECISION) && (x0..x1).contains(&cx);
+        let near_corner = [x0, x1].iter().any(|e| (cx - e).abs() <= EDGE_PRECISION)
+            && [y0, y1].iter().any(|e| (cy - e).abs() <= EDGE_PRECISION);
+        if near || near_corner {
+            return None;
+        }
+        Some((x0..x1).contains(&cx) && (y0..y1).contains(&cy))
+    }
+
+    /// What frame `frame`'s sample of pixel (x, y) shows: the front-most opaque rect, the
+    /// transparents in front of it composited far to near; None where an edge leaves it open.
+    fn sample(&self, frame: u32, x: i64, y: i64) -> Option<Shown> {
+        let mut front: Option<usize> = None;
+        let mut nearest_open = f32::INFINITY;
+        for (i, rect) in self.rects.iter().enumerate().filter(|(_, r)| !r.is_transparent()) {
+            match self.covers(i, frame, x, y) {
+                Some(true) if front.is_none_or(|f| rect.distance < self.rects[f].distance) => front = Some(i),
+                None => nearest_open = nearest_open.min(rect.distance),
+                _ => {}
+            }
+        }
+        let rect = front?;
+        let distance = self.rects[rect].distance;
+        // An edge in front of the surface may or may not hide it.
+        if nearest_open <= distance {
+            return None;
+        }
+        let opaque = &self.rects[rect];
+        let mut colour = opaque.albedo.map(f64::from);
+        let mut peak = colour.iter().copied().fold(0.0, f64::max);
+        for &index in self.transparents.iter().filter(|&&i| self.rects[i].distance < distance) {
+            let over = &self.rects[index];
+            match self.covers(index, frame, x, y) {
+                None => return None,
+                Some(false) => {}
+                Some(true) => {
+                    let a = f64::from(over.opacity);
+                    for (c, albedo) in colour.iter_mut().zip(over.albedo) {
+                        *c = *c * (1.0 - a) + f64::from(albedo) * a;
+                    }
+                    peak = over.albedo.iter().map(|&v| f64::from(v)).fold(peak, f64::max);
+                }
+            }
+        }
+        // Frame 0's previous frame is itself: its motion is zero.
+        let step = if frame == 0 { 0.0 } else { 1.0 };
+        Some(Shown {
+            rect,
+            distance: f64::from(distance),
+            moving: opaque.velocity != Vec2::ZERO,
+            motion: self.image_motion[rect].map(|m| m * step),
+            colour,
+            peak,
+        })
+    }
+
+    /// What every pixel centre of `frame` shows (row-major), sampled or not.
+    fn shown(&self, frame: u32) -> Vec<Option<Shown>> {
+        let (w, h) = (i64::from(self.screen.0), i64::from(self.screen.1));
+        (0..h).flat_map(|y| (0..w).map(move |x| (x, y))).map(|(x, y)| self.sample(frame, x, y)).collect()
+    }
+
+    /// Every pixel of frame `frame` (row-major), the frame before it as its history.
+    pub fn frame(&self, frame: u32) -> Vec<Expected> {
+        let (w, h) = (i64::from(self.screen.0), i64::from(self.screen.1));
+        let frames = Frames {
+            frame,
+            now: sampled_pixels(self.screen, frame % 2),
+            before: sampled_pixels(self.screen, 1 - frame % 2),
+            shown_now: self.shown(frame),
+            shown_before: if frame == 0 { Vec::new() } else { self.shown(frame - 1) },
+        };
+        (0..h).flat_map(|y| (0..w).map(move |x| (x, y))).map(|(x, y)| self.pixel(&frames, x, y)).collect()
+    }
+
+    fn pixel(&self, frames: &Frames, x: i64, y: i64) -> Expected {
+        let (frame, now) = (frames.frame, &frames.now);
+        if now[self.index(x, y)] {
+            return match frames.shown_now[self.index(x, y)] {
+                Some(s) => Expected::Known {
+                    source: PixelSource::Current,
+                    colour: s.colour,
+                    tolerance: stored_tolerance(s.peak),
+                },
+                None => Expected::Unknowable(NEAR_AN_EDGE),
+            };
+        }
+        // The cardinal neighbours frame N sampled, in the shader's order.
+        let mut neighbours = Vec::new();
+        for (dx, dy) in [(-1, 0), (1, 0), (0, -1), (0, 1)] {
+            let (nx, ny) = (x + dx, y + dy);
+            if !self.on_screen(nx, ny) || !now[self.index(nx, ny)] {
+                continue;
+            }
+            match frames.shown_now[self.index(nx, ny)] {
+                Some(s) => neighbours.push(s),
+                None => return Expected::Unknowable(NEAR_AN_EDGE),
+            }
+        }
+        if neighbours.is_empty() {
+            return Expected::Known {
+                source: PixelSource::OffScreen,
+                colour: BACKGROUND,
+                tolerance: stored_tolerance(0.035),
+            };
+        }
+        let peak = neighbours.iter().map(|s| s.peak).fold(0.0, f64::max);
+        let compress = |c: [f64; 3]| c.map(|v| v / (1.0 + c[0].max(c[1]).max(c[2])));
+        let mut sum = [0.0; 3];
+        for s in &neighbours {
+            for (total, v) in sum.iter_mut().zip(compress(s.colour)) {
+                *total += v;
+            }
+        }
+        let mean = sum.map(|v| v / neighbours.len() as f64);
+        let fill = mean.map(|v| v / (1.0 - mean[0].max(mean[1]).max(mean[2])).max(1e-4));
+        let filled = |source| Expected::Known { source, colour: fill, tolerance: fill_tolerance(peak) };
+        if frame == 0 {
+            return filled(PixelSource::FirstFrame);
+        }
+
+        // The front-most neighbour's motion stands in for this pixel's; the mean of the
+        // neighbours' linear depths is what CSO compares with.
+        let front = neighbours.iter().min_by(|a, b| a.distance.total_cmp(&b.distance)).expect("one at least");
+        let tie = neighbours
+            .iter()
+            .any(|s| s.rect != front.rect && (s.distance - front.distance).abs() <= DEPTH_PRECISION * front.distance);
+        if tie {
+            return Expected::Unknowable(FRONT_TIE);
+        }
+        let mean_depth = neighbours.iter().map(|s| s.distance).sum::<f64>() / neighbours.len() as f64;
+        let moving_object = self.objects_move && front.moving;
+        let motion = if moving_object || self.camera_moves { front.motion } else { [0.0, 0.0] };
+
+        // The decision must not change anywhere within the motion's rounding.
+        let precision = motion_precision(motion[0].hypot(motion[1]));
+        let mut decisions = Vec::new();
+        for (ex, ey) in [
+            (0.0, 0.0),
+            (-1.0, -1.0),
+            (-1.0, 0.0),
+            (-1.0, 1.0),
+            (0.0, -1.0),
+            (0.0, 1.0),
+            (1.0, -1.0),
+            (1.0, 0.0),
+            (1.0, 1.0),
+        ] {
+            let perturbed = [motion[0] + ex * precision, motion[1] + ey * precision];
+            match self.decide(frames, (x, y), perturbed, mean_depth, moving_object) {
+                Ok(decision) => decisions.push(decision),
+                Err(reason) => return Expected::Unknowable(reason),
+            }
+        }
+        if decisions.iter().any(|d| *d != decisions[0]) {
+            return Expected::Unknowable(NEAR_A_DECISION);
+        }
+        match decisions[0] {
+            Decision::Fill(source) => filled(source),
+            Decision::History((hx, hy)) => match frames.shown_before[self.index(hx, hy)] {
+                Some(s) => Expected::Known {
+                    source: PixelSource::History,
+                    colour: s.colour,
+                    tolerance: stored_tolerance(s.peak),
+                },
+                None => Expected::Unknowable(NEAR_AN_EDGE),
+            },
+        }
+    }
+
+    /// `missing` and `history_texel` of reconstruct.wgsl for pixel `p`, whose content moved by
+    /// `motion` since frame N−1.
+    fn decide(
+        &self,
+        frames: &Frames,
+        p: (i64, i64),
+        motion: [f64; 2],
+        mean_depth: f64,
+        moving_object: bool,
+    ) -> Result<Decision, &'static str> {
+        let (w, h) = (f64::from(self.screen.0), f64::from(self.screen.1));
+        let (now, before) = (&frames.now, &frames.before);
+        let then = [p.0 as f64 + 0.5 - motion[0], p.1 as f64 + 0.5 - motion[1]];
+        if !(then[0] >= 0.0 && then[0] < w && then[1] >= 0.0 && then[1] < h) {
+            return Ok(Decision::Fill(PixelSource::OffScreen));
+        }
+        let was = (then[0].floor() as i64, then[1].floor() as i64);
+        let candidates = [(0, 0), (-1, 0), (1, 0), (0, -1), (0, 1)];
+        let history = candidates.iter().map(|(dx, dy)| (was.0 + dx, was.1 + dy)).find(|&(cx, cy)| {
+            let direct = (cx, cy) == was;
+            let within = (cx as f64 + 0.5 - then[0]).abs() <= 0.5 + EDGE_SLACK
+                && (cy as f64 + 0.5 - then[1]).abs() <= 0.5 + EDGE_SLACK;
+            self.on_screen(cx, cy) && (direct || within) && before[self.index(cx, cy)]
+        });
+        let Some(history) = history else {
+            // One of frame N's own pixels (the motion cancelled the jitter), or the gap column.
+            let cancelled = now[self.index(was.0, was.1)];
+            return Ok(Decision::Fill(if cancelled { PixelSource::JitterCancelled } else { PixelSource::OffScreen }));
+        };
+        let shown = frames.shown_before[self.index(history.0, history.1)].ok_or(NEAR_AN_EDGE)?;
+        // History that moved with an object where this pixel does not (or the reverse) is stale.
+        if self.objects_move && shown.moving != moving_object {
+            return Ok(Decision::Fill(PixelSource::Disoccluded));
+        }
+        if motion[0].hypot(motion[1]) >= QUARTER_PIXEL - EDGE_SLACK {
+            let Detection::Cso { tolerance } = self.detection else {
+                return Ok(Decision::Fill(PixelSource::Assumed));
+            };
+            let margin = (shown.distance - mean_depth).abs() - f64::from(tolerance) * mean_depth;
+            if margin.abs() <= DEPTH_PRECISION * mean_depth {
+                return Err(NEAR_THE_TOLERANCE);
+            }
+            if margin > 0.0 {
+                return Ok(Decision::Fill(PixelSource::Disoccluded));
+            }
+        }
+        Ok(Decision::History(history))
+    }
+}
