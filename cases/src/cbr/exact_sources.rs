@@ -17,11 +17,10 @@ use anyhow::Result;
 use fragkit::cbr::branch_scenes::branch_scenes;
 use fragkit::cbr::measure::{read_hdr, read_sources};
 use fragkit::cbr::model::{Expected, ReconstructionModel};
+use fragkit::cbr::model_comparison::Comparison;
 use fragkit::cbr::sampling::CheckerboardPath;
-use fragkit::cbr::{Checkerboard, CheckerboardConfig, Detection, PixelSource, Shading};
+use fragkit::cbr::{Checkerboard, CheckerboardConfig, Detection, Shading};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
-use fragkit::image_compare::{error_mask, side_by_side};
-use fragkit::tonemap::ldr_to_display;
 
 pub const CASE: Case = Case {
     name: "cbr.reconstruct.exact_sources",
@@ -113,64 +112,4 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         }
     }
     Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
-}
-
-/// One frame held to the model, pixel by pixel.
-struct Comparison {
-    /// Pixels per source the model knows, and per reason it cannot.
-    tally: BTreeMap<&'static str, u64>,
-    /// Where the GPU's source or colour is not the model's.
-    wrong: Vec<bool>,
-    differences: Vec<String>,
-}
-
-impl Comparison {
-    fn of(expected: &[Expected], colours: &[f32], sources: &[PixelSource], width: u32) -> Self {
-        let mut comparison =
-            Self { tally: BTreeMap::new(), wrong: vec![false; expected.len()], differences: Vec::new() };
-        for (i, expectation) in expected.iter().enumerate() {
-            let (x, y) = (i as u32 % width, i as u32 / width);
-            let (source, colour, bound) = match *expectation {
-                Expected::Known { source, colour, tolerance } => (source, colour, tolerance),
-                Expected::Unknowable(reason) => {
-                    *comparison.tally.entry(reason).or_default() += 1;
-                    continue;
-                }
-            };
-            *comparison.tally.entry(source.name()).or_default() += 1;
-            let got = [0, 1, 2].map(|c| f64::from(colours[i * 4 + c]));
-            // Non-finite colours fail the comparison.
-            let within = got.iter().zip(colour).all(|(g, e)| (g - e).abs() <= bound);
-            let difference = if sources[i] != source {
-                format!("({x}, {y}) {} where the model says {}", sources[i].name(), source.name())
-            } else if !within {
-                format!("({x}, {y}) from {} shows {got:.4?}, the model {colour:.4?} (±{bound:.2e})", source.name())
-            } else {
-                continue;
-            };
-            comparison.differences.push(difference);
-            comparison.wrong[i] = true;
-        }
-        comparison
-    }
-
-    fn known_sources(&self) -> impl Iterator<Item = &'static str> + '_ {
-        let sources = PixelSource::ALL.map(PixelSource::name);
-        self.tally.keys().copied().filter(move |name| sources.contains(name))
-    }
-
-    /// Result, the model's colours (black where it cannot know) and the error mask.
-    fn evidence(&self, screen: (u32, u32), expected: &[Expected], colours: &[f32]) -> Result<image::RgbaImage> {
-        let modelled: Vec<[f32; 3]> = expected
-            .iter()
-            .map(|e| match e {
-                Expected::Known { colour, .. } => colour.map(|c| c as f32),
-                Expected::Unknowable(_) => [0.0; 3],
-            })
-            .collect();
-        let result: Vec<[f32; 3]> = colours.chunks(4).map(|c| [c[0], c[1], c[2]]).collect();
-        let reference = ldr_to_display(screen.0, screen.1, &modelled)?;
-        let result = ldr_to_display(screen.0, screen.1, &result)?;
-        Ok(side_by_side(&result, &reference, &error_mask(&reference, &self.wrong)))
-    }
 }

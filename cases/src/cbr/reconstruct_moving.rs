@@ -3,17 +3,25 @@
 //! the corridor. Each sequence's last frame is compared with the full-resolution render of that
 //! frame and must beat references measured in the same run (see `Sequence`); and the
 //! jitter-cancelling pan must send exactly the pixels the CPU mapping predicts down the
-//! missing-shading path (counted per source, not eyeballed).
+//! missing-shading path (counted per source, not eyeballed). The corridor's lighting and textures
+//! have no exact CPU model, but its motions do: each sequence's motion is also played on seeded
+//! flat rects, and the last two frames (both phases) are held per pixel, source and colour, to
+//! the CPU model of the reconstruction (kit/src/cbr/model.rs).
 
 use std::collections::BTreeMap;
 
 use anyhow::Result;
-use fragkit::cbr::measure::{SameFrameReferences, measure_against, render_with_reference, source_counts};
+use fragkit::cbr::measure::{
+    SameFrameReferences, measure_against, read_hdr, read_sources, render_with_reference, source_counts,
+};
+use fragkit::cbr::model::{ReconstructionModel, focal_pixels};
+use fragkit::cbr::model_comparison::Comparison;
 use fragkit::cbr::sampling::{CheckerboardPath, sampled_pixels};
-use fragkit::cbr::scene::{Motion, textured_corridor};
-use fragkit::cbr::{CheckerboardConfig, Detection, PixelSource, Shading};
+use fragkit::cbr::scene::{CameraMotion, Motion, PixelRect, pixel_rect_scene, seeded_rects, textured_corridor};
+use fragkit::cbr::{Checkerboard, CheckerboardConfig, Detection, PixelSource, Shading};
+use fragkit::gpu::Gpu;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 
 pub const CASE: Case = Case {
     name: "cbr.reconstruct.moving",
@@ -39,7 +47,7 @@ pub const CASE: Case = Case {
         Sweep { param: "lights", range: SweepRange::Count(1, 4096) },
         Sweep { param: "frames", range: SweepRange::Count(2, 8) },
     ],
-    budget_s: 11,
+    budget_s: 15,
     run,
 };
 
@@ -90,6 +98,55 @@ fn expected_pan_sources(screen: (u32, u32), phase: u32, pan: (i64, i64)) -> BTre
         })
         .collect();
     source_counts(&sources)
+}
+
+/// The sequence's motion on seeded flat rects (`seeded_rects`), every sample of which the CPU
+/// model knows; for `Motion::Object` the nearest rect crosses at the same metres a frame.
+fn flat_analogue(motion: Motion, screen: (u32, u32)) -> (Vec<PixelRect>, CameraMotion) {
+    let mut rects = seeded_rects(screen, 9);
+    let camera = match motion {
+        Motion::Static => CameraMotion::default(),
+        Motion::Pan(pixels) => CameraMotion { pan_pixels: pixels, travel: Vec3::ZERO },
+        Motion::Strafe(metres) => CameraMotion { pan_pixels: Vec2::ZERO, travel: Vec3::X * metres },
+        Motion::Object(metres) => {
+            let nearest =
+                rects.iter_mut().min_by(|a, b| a.distance.total_cmp(&b.distance)).expect("a backdrop at least");
+            let pixels = metres * focal_pixels(screen) as f32 / nearest.distance;
+            *nearest = nearest.moving(Vec2::new(pixels, 0.0));
+            CameraMotion::default()
+        }
+    };
+    (rects, camera)
+}
+
+/// Renders `frames` frames of `motion`'s flat analogue and holds the last two to the model:
+/// the differences found, and the model's tally of checked and open pixels.
+fn held_to_model(
+    gpu: &Gpu,
+    motion: Motion,
+    config: CheckerboardConfig,
+    frames: u32,
+) -> Result<(Vec<String>, BTreeMap<&'static str, u64>)> {
+    let screen = config.screen;
+    let (rects, camera) = flat_analogue(motion, screen);
+    let model = ReconstructionModel::new(&rects, camera, screen, config.detection)?;
+    let scene = pixel_rect_scene(&format!("flat_{}", motion.name()), screen, &rects, camera);
+    let mut checkerboard = Checkerboard::new(gpu, &scene, config)?;
+    let (mut differences, mut tally) = (Vec::new(), BTreeMap::new());
+    for frame in 0..frames {
+        checkerboard.render(gpu, frame)?;
+        if frame + 2 < frames {
+            continue;
+        }
+        let colours = read_hdr(gpu, &checkerboard.reconstruction.colour)?;
+        let sources = read_sources(gpu, &checkerboard.reconstruction)?;
+        let comparison = Comparison::of(&model.frame(frame), &colours, &sources, screen.0);
+        for (name, count) in comparison.tally {
+            *tally.entry(name).or_default() += count;
+        }
+        differences.extend(comparison.differences.into_iter().map(|d| format!("frame {frame} {d}")));
+    }
+    Ok((differences, tally))
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
@@ -147,6 +204,15 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             }
         }
         let config = CheckerboardConfig::new(screen, path, shading);
+        let (flat, tally) = held_to_model(ctx.gpu, sequence.motion, config, frames)?;
+        ctx.metric(&format!("{name}.flat_model"), &tally);
+        if !flat.is_empty() {
+            problems.push(format!(
+                "{name}: on flat rects {} pixels differ from the CPU model, e.g. {}",
+                flat.len(),
+                flat[..flat.len().min(3)].join("; ")
+            ));
+        }
         let same_frame = SameFrameReferences::measure(ctx.gpu, &scene, config, frames - 1, &reference)?;
         let (upscale_db, alone_db) = (same_frame.upscale_psnr_db, same_frame.without_history_psnr_db);
         ctx.metric(&format!("{name}.upscale_psnr_db"), upscale_db);

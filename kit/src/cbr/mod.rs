@@ -9,6 +9,7 @@ pub mod frame;
 pub mod layout_values;
 pub mod measure;
 pub mod model;
+pub mod model_comparison;
 pub mod pictures;
 pub mod plan;
 pub mod probe;

@@ -254,6 +254,12 @@ pub fn pixel_rect_scene(
 /// Flat-shaded rects facing the camera, corners on full-resolution pixel corners of `screen`,
 /// overlapping at seeded depths; colours are multiples of 1/255 (exact in every target format).
 pub fn flat_rects(screen: (u32, u32), seed: u32, pan_pixels: Vec2) -> CheckerboardScene {
+    let camera_motion = CameraMotion { pan_pixels, travel: Vec3::ZERO };
+    pixel_rect_scene("flat_rects", screen, &seeded_rects(screen, seed), camera_motion)
+}
+
+/// The rects of [`flat_rects`]: a backdrop at 40 m, then twelve smaller ones from 2 to 32 m.
+pub fn seeded_rects(screen: (u32, u32), seed: u32) -> Vec<PixelRect> {
     let mut rng = SeededRng::new(seed);
     // A backdrop over the whole screen, then smaller rects in front.
     let mut places = vec![(0, 0, screen.0, screen.1, 40.0)];
@@ -262,14 +268,13 @@ pub fn flat_rects(screen: (u32, u32), seed: u32, pan_pixels: Vec2) -> Checkerboa
         let (x1, y1) = (rng.range(x0 + 1, screen.0 + 1), rng.range(y0 + 1, screen.1 + 1));
         places.push((x0, y0, x1, y1, 2.0 + 30.0 * rng.unit()));
     }
-    let rects: Vec<PixelRect> = places
+    places
         .into_iter()
         .map(|(x0, y0, x1, y1, distance)| {
             let albedo = [rng.range(0, 256), rng.range(0, 256), rng.range(0, 256)].map(|c| c as f32 / 255.0);
             PixelRect::opaque([x0, y0, x1, y1].map(|c| c as i32), distance, albedo)
         })
-        .collect();
-    pixel_rect_scene("flat_rects", screen, &rects, CameraMotion { pan_pixels, travel: Vec3::ZERO })
+        .collect()
 }
 
 /// Albedo-map repeats per metre on the corridor's floor and walls.
