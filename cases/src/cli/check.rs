@@ -82,8 +82,9 @@ pub struct CheckArgs {
     /// Run a failed case again up to N times; one that then passes is reported `flaky`.
     #[arg(long, value_name = "N", default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=100))]
     retry: u32,
-    /// Run each case N times and record every run's GPU time (the median is reported), so that
-    /// `fragkit compare` judges a time change against the noise.
+    /// Above 1: after each case's run (its verdict and warm-up, whose time is cold), run it N more
+    /// times and record their GPU times (the median is reported), so that `fragkit compare`
+    /// judges a time change against the noise.
     #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000))]
     repeat: u32,
     /// Count flaky cases as failures (exit 1).

@@ -231,9 +231,17 @@ pub fn pixel_rect_scene(
         let ndc = Vec3::new(x / width * 2.0 - 1.0, 1.0 - y / height * 2.0, depth_of(distance));
         world_from_clip.project_point3(ndc)
     };
-    // Opaque rects first, then the transparents back to front.
+    // Opaque rects first, front to back (as a renderer orders them for early depth rejection: a
+    // pass that ignores its depth test then shows the farther rect), then the transparents back
+    // to front.
     let mut order: Vec<&PixelRect> = rects.iter().collect();
-    order.sort_by(|a, b| a.is_transparent().cmp(&b.is_transparent()).then(b.distance.total_cmp(&a.distance)));
+    order.sort_by(|a, b| {
+        a.is_transparent().cmp(&b.is_transparent()).then(if a.is_transparent() {
+            b.distance.total_cmp(&a.distance)
+        } else {
+            a.distance.total_cmp(&b.distance)
+        })
+    });
     for r in order {
         let (x0, y0, x1, y1) = (r.x0 as f32, r.y0 as f32, r.x1 as f32, r.y1 as f32);
         // Counter-clockwise seen from the camera: bottom-left, bottom-right, top-right, top-left.

@@ -98,17 +98,23 @@ pub struct RunOptions<'a> {
     pub reproduce_lines: bool,
     /// Re-run a failed case up to this many times; passing on a retry makes it `flaky`.
     pub retries: u32,
-    /// Run each case this many times (at least 1) and keep every run's GPU time, so that
-    /// `fragkit compare` can judge a time change against the noise; the GPU time reported is
-    /// the median. A repeat whose outcome differs makes the case `flaky`.
+    /// Above 1: after the case's run (its verdict, and the warm-up: it compiles the pipelines
+    /// and touches every resource first, and runs about a third slower here), run it this many
+    /// more times and keep their GPU times, so that `fragkit compare` can judge a time change
+    /// against the noise; the GPU time reported is their median. A repeat whose outcome differs
+    /// makes the case `flaky`.
     pub repeats: u32,
 }
 
-/// Runs `run` `repeats − 1` more times after `record`, keeping every GPU time.
+/// Runs `run` `repeats` more times after `record`, the warm-up, keeping their GPU times: the
+/// warm-up's own time is the cold one, and kept among them it would overlap a slower build's
+/// warm times (a ×2 slower shader went unflagged for it).
 fn repeat(gpu: &Gpu, run: &CaseRun, options: &RunOptions, mut record: CaseRecord) -> CaseRecord {
-    let Some(first_ms) = record.gpu_ms else { return record };
-    let mut times = vec![first_ms];
-    for attempt in 2..=options.repeats {
+    if record.gpu_ms.is_none() {
+        return record;
+    }
+    let mut times = Vec::new();
+    for attempt in 1..=options.repeats {
         if gpu.lost().is_some() {
             break;
         }
@@ -127,8 +133,10 @@ fn repeat(gpu: &Gpu, run: &CaseRun, options: &RunOptions, mut record: CaseRecord
         }
         times.extend(again.gpu_ms);
     }
-    record.gpu_ms = Some(crate::query::median(times.clone()));
-    record.gpu_ms_repeats = times;
+    if !times.is_empty() {
+        record.gpu_ms = Some(crate::query::median(times.clone()));
+        record.gpu_ms_repeats = times;
+    }
     record
 }
 
