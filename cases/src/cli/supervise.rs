@@ -65,9 +65,14 @@ struct Scratch {
 }
 
 impl Scratch {
-    fn new() -> Self {
+    /// Named by this process's id, and emptied: a process killed before it could remove its
+    /// files leaves them behind, and a later one given the same id must not read its records.
+    fn new() -> Result<Self> {
         let base = std::env::temp_dir().join(format!("fragkit-child-{}", std::process::id()));
-        Self { stream: base.with_extension("stream"), stderr: base.with_extension("stderr") }
+        let scratch = Self { stream: base.with_extension("stream"), stderr: base.with_extension("stderr") };
+        std::fs::File::create(&scratch.stream)
+            .with_context(|| format!("creating the record stream {}", scratch.stream.display()))?;
+        Ok(scratch)
     }
 }
 
@@ -123,7 +128,7 @@ pub fn supervise(
     sinks: &mut [&mut dyn Sink],
 ) -> Result<Report> {
     let program = std::env::current_exe().context("finding this program to run the cases in a child")?;
-    let scratch = Scratch::new();
+    let scratch = Scratch::new()?;
     let mut report: Option<Report> = None;
     let mut offset = 0u64;
     let mut done = 0usize;
@@ -315,5 +320,21 @@ fn death_record(
         evidence: Vec::new(),
         attempts: 1,
         diagnostics: stderr_tail.lines().map(str::to_owned).collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A killed parent leaves its stream behind; a new parent with its process id starts empty.
+    #[test]
+    fn a_stream_left_by_a_dead_process_with_the_same_id_is_not_read() {
+        let stale = std::env::temp_dir().join(format!("fragkit-child-{}.stream", std::process::id()));
+        let start = StreamLine::Start { adapter: AdapterDescription::default(), runs: 1 };
+        std::fs::write(&stale, serde_json::to_string(&start).unwrap() + "\n").unwrap();
+        let scratch = Scratch::new().unwrap();
+        let (lines, _) = read_new_lines(&scratch.stream, 0).unwrap();
+        assert!(lines.is_empty(), "{} records from a dead process", lines.len());
     }
 }
