@@ -19,7 +19,6 @@ use fragkit::cbr::model_comparison::Comparison;
 use fragkit::cbr::sampling::{CheckerboardPath, sampled_pixels};
 use fragkit::cbr::scene::{CameraMotion, Motion, PixelRect, pixel_rect_scene, seeded_rects, textured_corridor};
 use fragkit::cbr::{Checkerboard, CheckerboardConfig, Detection, PixelSource, Shading};
-use fragkit::gpu::Gpu;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use glam::{Vec2, Vec3};
 
@@ -51,26 +50,27 @@ pub const CASE: Case = Case {
     run,
 };
 
-/// What each sequence is checked against, besides its pixel sources: every reconstruction must
-/// beat the quarter-resolution render of the same frame upscaled bilinearly (it shades half the
-/// samples checkerboarding does), and where frame N−1's samples are exact for the motion (a pan of
-/// whole quarter pixels) any history taken must add something over the same frame reconstructed
-/// without history. Sub-pixel motion (the half-pixel pan, the strafe's parallax, the box) takes
-/// N−1's nearest sample, up to half a pixel off, so there history can lose to the spatial fill and
-/// CSO (which keeps such history) to ASO (which fills it): measured over the sweep, neither holds
-/// everywhere, so both are metrics here and rows in `fragkit report cbr`; CSO's own decision is
-/// checked exactly on whole-pixel motion by cbr.reconstruct.exact_sources.
+/// What each sequence's last frame is checked against, besides its pixel sources and the flat
+/// model. Where the motion moves the samples by whole pixels (the pans of one and two pixels),
+/// frame N−1's samples are exact for the pixels they fill, so the reconstruction must beat the
+/// quarter-resolution render of the same frame upscaled bilinearly (it shades twice the samples),
+/// and any history it takes must add something over the same frame reconstructed without
+/// history. Sub-pixel motion (the half-pixel pan, the strafe's parallax, the box) takes N−1's
+/// nearest sample, up to half a pixel off: there history can lose to the spatial fill, CSO to
+/// ASO, and the whole reconstruction to the bilinear upscale (SwiftShader, strafe, 1115 lights at
+/// 99x149: 32.98 dB against 33.12 dB), so those are metrics and rows in `fragkit report cbr`,
+/// and the flat model holds these motions' sources and colours per pixel instead.
 struct Sequence {
     motion: Motion,
-    history_must_help: bool,
+    history_exact: bool,
 }
 
 const SEQUENCES: [Sequence; 5] = [
-    Sequence { motion: Motion::Pan(Vec2::new(0.5, 0.0)), history_must_help: false },
-    Sequence { motion: Motion::Pan(Vec2::new(2.0, 0.0)), history_must_help: true },
-    Sequence { motion: Motion::Pan(Vec2::new(1.0, 0.0)), history_must_help: false },
-    Sequence { motion: Motion::Strafe(0.2), history_must_help: false },
-    Sequence { motion: Motion::Object(0.25), history_must_help: false },
+    Sequence { motion: Motion::Pan(Vec2::new(0.5, 0.0)), history_exact: false },
+    Sequence { motion: Motion::Pan(Vec2::new(2.0, 0.0)), history_exact: true },
+    Sequence { motion: Motion::Pan(Vec2::new(1.0, 0.0)), history_exact: true },
+    Sequence { motion: Motion::Strafe(0.2), history_exact: false },
+    Sequence { motion: Motion::Object(0.25), history_exact: false },
 ];
 
 /// The sources the CPU mapping predicts for a uniform integer pan: a pixel frame N did not
@@ -120,13 +120,16 @@ fn flat_analogue(motion: Motion, screen: (u32, u32)) -> (Vec<PixelRect>, CameraM
 }
 
 /// Renders `frames` frames of `motion`'s flat analogue and holds the last two to the model:
-/// the differences found, and the model's tally of checked and open pixels.
+/// the differences found, and the model's tally of checked and open pixels. A frame that
+/// differs leaves its evidence strip (result, model, error mask) as `<name>.flat_model.frame<N>`.
 fn held_to_model(
-    gpu: &Gpu,
+    ctx: &mut Ctx,
+    name: &str,
     motion: Motion,
     config: CheckerboardConfig,
     frames: u32,
 ) -> Result<(Vec<String>, BTreeMap<&'static str, u64>)> {
+    let gpu = ctx.gpu;
     let screen = config.screen;
     let (rects, camera) = flat_analogue(motion, screen);
     let model = ReconstructionModel::new(&rects, camera, screen, config.detection)?;
@@ -140,9 +143,14 @@ fn held_to_model(
         }
         let colours = read_hdr(gpu, &checkerboard.reconstruction.colour)?;
         let sources = read_sources(gpu, &checkerboard.reconstruction)?;
-        let comparison = Comparison::of(&model.frame(frame), &colours, &sources, screen.0);
-        for (name, count) in comparison.tally {
-            *tally.entry(name).or_default() += count;
+        let expected = model.frame(frame);
+        let comparison = Comparison::of(&expected, &colours, &sources, screen.0);
+        if !comparison.differences.is_empty() {
+            let evidence = comparison.evidence(screen, &expected, &colours)?;
+            ctx.evidence_image(&format!("{name}.flat_model.frame{frame}"), &evidence)?;
+        }
+        for (source, count) in comparison.tally {
+            *tally.entry(source).or_default() += count;
         }
         differences.extend(comparison.differences.into_iter().map(|d| format!("frame {frame} {d}")));
     }
@@ -204,7 +212,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             }
         }
         let config = CheckerboardConfig::new(screen, path, shading);
-        let (flat, tally) = held_to_model(ctx.gpu, sequence.motion, config, frames)?;
+        let (flat, tally) = held_to_model(ctx, &name, sequence.motion, config, frames)?;
         ctx.metric(&format!("{name}.flat_model"), &tally);
         if !flat.is_empty() {
             problems.push(format!(
@@ -217,12 +225,12 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let (upscale_db, alone_db) = (same_frame.upscale_psnr_db, same_frame.without_history_psnr_db);
         ctx.metric(&format!("{name}.upscale_psnr_db"), upscale_db);
         ctx.metric(&format!("{name}.without_history_psnr_db"), alone_db);
-        if !SameFrameReferences::beats(cso, upscale_db) {
+        if sequence.history_exact && !SameFrameReferences::beats(cso, upscale_db) {
             problems.push(format!(
                 "{name}: CSO ({cso:.2} dB) does not beat the upscaled quarter resolution ({upscale_db:.2} dB)"
             ));
         }
-        if sequence.history_must_help && from_history > 0 && !SameFrameReferences::beats(cso, alone_db) {
+        if sequence.history_exact && from_history > 0 && !SameFrameReferences::beats(cso, alone_db) {
             problems.push(format!(
                 "{name}: CSO ({cso:.2} dB) does not beat the same frame without history ({alone_db:.2} dB)"
             ));
