@@ -1,13 +1,10 @@
 //! The command line: bad input gets a clear message and a non-zero exit, never a panic.
 
+mod command_line;
+
 use std::process::Command;
 
-fn fragkit(args: &[&str]) -> (i32, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_fragkit")).args(args).output().expect("running fragkit");
-    let text = String::from_utf8_lossy(&output.stdout).into_owned() + &String::from_utf8_lossy(&output.stderr);
-    assert!(!text.contains("panicked"), "fragkit {args:?} panicked:\n{text}");
-    (output.status.code().unwrap_or(-1), text)
-}
+use command_line::{copy_tree, fragkit};
 
 #[test]
 fn unknown_case_pattern_is_an_error() {
@@ -361,20 +358,6 @@ fn shards_run_every_case_once_and_merge_into_one_report_with_junit() {
         assert_eq!(code, 2, "--shard {bad}: {text}");
     }
     std::fs::remove_dir_all(&dir).ok();
-}
-
-/// Copies `dir` recursively (the shader tree for a mutated copy).
-fn copy_tree(from: &std::path::Path, to: &std::path::Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for entry in std::fs::read_dir(from).unwrap() {
-        let entry = entry.unwrap();
-        let target = to.join(entry.file_name());
-        if entry.file_type().unwrap().is_dir() {
-            copy_tree(&entry.path(), &target);
-        } else {
-            std::fs::copy(entry.path(), target).unwrap();
-        }
-    }
 }
 
 #[test]
@@ -906,58 +889,5 @@ fn driver_and_wgpu_logs_go_to_the_report_not_the_terminal() {
         let (_, _, err) = fragkit_streams(&["--backend", "gl", "check", "oit.quads.converges", "-v"]);
         assert!(err.contains("int[1]"), "-v prints the records: {err}");
     }
-    std::fs::remove_dir_all(&dir).ok();
-}
-
-/// Issue 28's gate, end to end with the setting docs/regression-gate.md gives CI: the base and
-/// the new build run interleaved, five processes a side (`check --repeat 3` each), and `compare`
-/// pools each side (`a1.json,…,a5.json`) at its defaults; an alarm counts once a second
-/// interleaved comparison confirms it. A heavy shader made twice as slow is a regression (exit
-/// 1); a second build of the same tree is none (exit 0). Repeats within one process would not
-/// do: they never see the drift between processes (identical builds differed by 8–14 % between
-/// processes here and were flagged on two pairs in a row); and one interleaved comparison of
-/// identical builds was flagged in about one of ten, which the confirmation squares.
-#[test]
-fn the_documented_gate_flags_a_twice_slower_shader_and_passes_a_second_identical_run() {
-    let dir = std::env::temp_dir().join(format!("fragkit-gate-{}", std::process::id()));
-    let slow_shaders = dir.join("shaders");
-    copy_tree(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders"), &slow_shaders);
-    let heavy = slow_shaders.join("kit/heavy_shading.wgsl");
-    let loop_head = "for (var i = 0u; i < workload.iterations; i++) {";
-    let text = std::fs::read_to_string(&heavy).unwrap();
-    assert_eq!(text.matches(loop_head).count(), 1, "the heavy loop moved: update this test");
-    std::fs::write(&heavy, text.replace(loop_head, "for (var i = 0u; i < workload.iterations * 2u; i++) {")).unwrap();
-
-    let run = |name: String, shaders: Option<&std::path::Path>| {
-        let report = dir.join(name);
-        let mut command = Command::new(env!("CARGO_BIN_EXE_fragkit"));
-        command.args(["check", "kit.early_rejection", "--repeat", "3", "--json", report.to_str().unwrap()]);
-        if let Some(shaders) = shaders {
-            command.env("FRAGKIT_SHADER_DIR", shaders);
-        }
-        let output = command.output().unwrap();
-        assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
-        report.to_str().unwrap().to_owned()
-    };
-    // Base, new, base, new, …: the machine's drift acts on both sides alike.
-    let gate = |label: &str, new_shaders: Option<&std::path::Path>| {
-        let (mut base, mut new) = (Vec::new(), Vec::new());
-        for process in 0..5 {
-            base.push(run(format!("{label}-base{process}.json"), None));
-            new.push(run(format!("{label}-new{process}.json"), new_shaders));
-        }
-        fragkit(&["compare", &base.join(","), &new.join(",")])
-    };
-    let confirmed = |label: &str, new_shaders: Option<&std::path::Path>| match gate(label, new_shaders) {
-        (1, _) => gate(&format!("{label}-again"), new_shaders),
-        verdict => verdict,
-    };
-
-    let (code, text) = confirmed("slow", Some(&slow_shaders));
-    assert_eq!(code, 1, "{text}");
-    assert!(text.contains("1 slower and 0 faster") && text.contains("**slower**"), "{text}");
-    let (code, text) = confirmed("same", None);
-    assert_eq!(code, 0, "{text}");
-    assert!(text.contains("0 slower") && text.contains("1 judged"), "{text}");
     std::fs::remove_dir_all(&dir).ok();
 }
