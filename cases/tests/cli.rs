@@ -891,3 +891,31 @@ fn driver_and_wgpu_logs_go_to_the_report_not_the_terminal() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// GL 3.3 (softpipe's API; llvmpipe started at that version here) has no storage buffers, and the
+/// checkerboard reconstruction only reads its parameters: it takes them from a uniform buffer there
+/// and runs (kit/src/cbr/reconstruct.rs, `ParameterBuffer`), where a storage buffer would leave the
+/// technique `not_supported` on an API that has all it needs.
+#[test]
+fn gl_3_3_runs_the_checkerboard_reconstruction_from_a_uniform_buffer() {
+    let (_, adapters) = fragkit(&["adapters"]);
+    if !adapters.lines().any(|l| l.starts_with("gl ")) {
+        eprintln!("SKIPPED: no GL adapter here ({adapters})");
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("fragkit-gl33-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let json = dir.join("report.json");
+    let output = Command::new(env!("CARGO_BIN_EXE_fragkit"))
+        .args(["--backend", "gl", "check", "cbr.extremes", "--json", json.to_str().unwrap()])
+        .env("MESA_GL_VERSION_OVERRIDE", "3.3")
+        .env("MESA_GLSL_VERSION_OVERRIDE", "330")
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&output.stdout).into_owned() + &String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{text}");
+    let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert!(report["adapter"]["driver_info"].as_str().unwrap().starts_with("3.3 "), "{}", report["adapter"]);
+    assert_eq!(report["cases"][0]["outcome"], "pass", "{}", report["cases"][0]["reason"]);
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -24,8 +24,18 @@ impl FullscreenPipeline<'_> {
 
     /// The pipeline with the fragment stage's `override` constants set (name, value).
     pub fn create_specialised(&self, gpu: &Gpu, constants: &[(&str, f64)]) -> wgpu::RenderPipeline {
+        self.create_from_module(gpu, &self.fragment.module(gpu), constants)
+    }
+
+    /// [`Self::create_specialised`] with the fragment stage compiled from `fragment`, a module
+    /// made from `self.fragment`'s source with a declaration changed for the device.
+    pub fn create_from_module(
+        &self,
+        gpu: &Gpu,
+        fragment: &wgpu::ShaderModule,
+        constants: &[(&str, f64)],
+    ) -> wgpu::RenderPipeline {
         let vertex = shaders::FULLSCREEN.module(gpu);
-        let fragment = self.fragment.module(gpu);
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(self.label),
             layout: None,
@@ -39,7 +49,7 @@ impl FullscreenPipeline<'_> {
             depth_stencil: self.depth_stencil.clone(),
             multisample: wgpu::MultisampleState { count: self.samples, ..Default::default() },
             fragment: Some(wgpu::FragmentState {
-                module: &fragment,
+                module: fragment,
                 entry_point: Some(self.entry_point),
                 compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
                 targets: self.targets,

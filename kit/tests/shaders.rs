@@ -74,3 +74,23 @@ fn the_compute_check_catches_a_compute_entry_point() {
     let module = validate("inline", "@compute @workgroup_size(1) fn main() {}");
     assert!(module.entry_points.iter().any(|e| e.stage == naga::ShaderStage::Compute));
 }
+
+/// Where fragment shaders have no storage buffers (GL 3.3) the reconstruction compiles with its
+/// parameters in a uniform buffer: the very source the renderer builds then, valid, `rebuild` in
+/// the uniform address space and nothing else changed.
+#[test]
+fn the_reconstruction_with_its_parameters_in_a_uniform_buffer_validates() {
+    use fragkit::cbr::reconstruct::ParameterBuffer;
+    let storage = ParameterBuffer::Storage.shader_source().unwrap();
+    let uniform = ParameterBuffer::Uniform.shader_source().unwrap();
+    assert_eq!(storage, fragkit::shaders::CBR_RECONSTRUCT.assembled());
+    let module = validate("cbr/reconstruct.wgsl (uniform parameters)", &uniform);
+    let spaces: Vec<_> = module
+        .global_variables
+        .iter()
+        .filter(|(_, v)| v.name.as_deref() == Some("rebuild"))
+        .map(|(_, v)| v.space)
+        .collect();
+    assert_eq!(spaces, [naga::AddressSpace::Uniform]);
+    assert_eq!(uniform.lines().count(), storage.lines().count());
+}

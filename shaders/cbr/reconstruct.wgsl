@@ -43,7 +43,9 @@ const QUARTER_PIXEL: f32 = 2.0;
 
 // The per-frame parameters are a read-only storage buffer, not a uniform: lavapipe specialises
 // a shader on uniform values that decide branches (the phase, the history) and, with values that
-// change every frame, kept every variant (1.6 MB a frame, measured by soak.cbr). Depth buffers are
+// change every frame, kept every variant (1.6 MB a frame, measured by soak.cbr). Where fragment
+// shaders have no storage buffers (GL 3.3), the renderer declares it `var<uniform>` instead
+// (`ParameterBuffer` in kit/src/cbr/reconstruct.rs): the struct's layout is the same. Depth buffers are
 // bound as unfilterable float (`.r`): naga's GLSL output has no textureLoad on depth textures.
 @group(0) @binding(0) var<storage, read> rebuild: Reconstruction;
 @group(0) @binding(1) var current_colour: texture_2d<f32>;

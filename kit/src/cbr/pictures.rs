@@ -41,7 +41,7 @@ pub fn render_all(
     frames: u32,
 ) -> Result<Vec<(String, RgbaImage)>> {
     let screen = config.screen;
-    let mut checkerboard = Checkerboard::new(gpu, scene, config)?.showing_motion(gpu);
+    let mut checkerboard = Checkerboard::new(gpu, scene, config)?.showing_motion(gpu)?;
     for frame in 0..frames.max(1) {
         checkerboard.render(gpu, frame)?;
     }

@@ -1,6 +1,7 @@
 //! The reconstruction pass (`shaders/cbr/reconstruct.wgsl`): full resolution rebuilt from
 //! frames N and N−1 in the sample layout, with a second target saying where each pixel came from.
 
+use anyhow::Result;
 use serde::Serialize;
 
 use super::frame::{CheckerboardFrame, TARGET_USAGE};
@@ -13,6 +14,7 @@ use wgpu::util::DeviceExt;
 
 use crate::fullscreen::{FullscreenPipeline, bind_group, bind_group_at};
 use crate::gpu::Gpu;
+use crate::probe::fragment_storage::fragment_storage_problem;
 use crate::query::GpuTimer;
 use crate::shaders;
 
@@ -106,6 +108,52 @@ impl Detection {
 
 pub const SOURCE: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
 
+/// Where the per-frame parameters (`rebuild` in the shader) live: a read-only storage buffer
+/// where fragment shaders have storage buffers (the shader says why not a uniform), else a uniform
+/// buffer. GL 3.3 (softpipe) has no storage buffers, and the pass only reads its parameters, so
+/// it runs there too; the struct's layout is the same in both address spaces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ParameterBuffer {
+    Storage,
+    Uniform,
+}
+
+const STORAGE_DECLARATION: &str = "var<storage, read> rebuild: Reconstruction;";
+const UNIFORM_DECLARATION: &str = "var<uniform> rebuild: Reconstruction;";
+
+impl ParameterBuffer {
+    /// Storage where the fragment-storage probe's render wrote its buffer, else uniform.
+    pub fn for_device(gpu: &Gpu) -> Result<Self> {
+        Ok(match fragment_storage_problem(gpu)? {
+            None => Self::Storage,
+            Some(_) => Self::Uniform,
+        })
+    }
+
+    /// The reconstruction shader as compiled, `rebuild` declared in this buffer.
+    pub fn shader_source(self) -> Result<String> {
+        let source = shaders::CBR_RECONSTRUCT.assembled();
+        let declared = source.matches(STORAGE_DECLARATION).count();
+        anyhow::ensure!(
+            declared == 1,
+            "{} declares `{STORAGE_DECLARATION}` {declared} times, not once: the uniform variant replaces it",
+            shaders::CBR_RECONSTRUCT.path
+        );
+        Ok(match self {
+            Self::Storage => source,
+            Self::Uniform => source.replace(STORAGE_DECLARATION, UNIFORM_DECLARATION),
+        })
+    }
+
+    fn usage(self) -> wgpu::BufferUsages {
+        match self {
+            Self::Storage => wgpu::BufferUsages::STORAGE,
+            Self::Uniform => wgpu::BufferUsages::UNIFORM,
+        }
+    }
+}
+
 /// The reconstruction's pipelines, specialised on the renderer's plan and detection, its outputs,
 /// and the 1×1 placeholders bound where a frame has no motion or forward buffer (WGSL bindings are
 /// static; the specialisation keeps them unread).
@@ -114,6 +162,7 @@ pub struct Reconstruction {
     /// Where nothing moves: `fs_reconstruct_still`, for frames with history (all but column 0).
     still: Option<wgpu::RenderPipeline>,
     detection: Detection,
+    pub parameters: ParameterBuffer,
     pub colour: wgpu::Texture,
     pub source: wgpu::Texture,
     /// The motion each pixel used, for pictures (`Reconstruction::showing_motion`).
@@ -143,21 +192,37 @@ fn specialisation(plan: &CheckerboardPlan, detection: Detection) -> [(&'static s
 }
 
 impl Reconstruction {
-    pub fn new(gpu: &Gpu, screen: (u32, u32), plan: &CheckerboardPlan, detection: Detection) -> Self {
+    pub fn new(gpu: &Gpu, screen: (u32, u32), plan: &CheckerboardPlan, detection: Detection) -> Result<Self> {
         Self::create(gpu, screen, plan, detection, false)
     }
 
     /// A reconstruction that also writes the motion each pixel used (pictures).
-    pub fn showing_motion(gpu: &Gpu, screen: (u32, u32), plan: &CheckerboardPlan, detection: Detection) -> Self {
+    pub fn showing_motion(
+        gpu: &Gpu,
+        screen: (u32, u32),
+        plan: &CheckerboardPlan,
+        detection: Detection,
+    ) -> Result<Self> {
         Self::create(gpu, screen, plan, detection, true)
     }
 
-    fn create(gpu: &Gpu, screen: (u32, u32), plan: &CheckerboardPlan, detection: Detection, with_motion: bool) -> Self {
+    fn create(
+        gpu: &Gpu,
+        screen: (u32, u32),
+        plan: &CheckerboardPlan,
+        detection: Detection,
+        with_motion: bool,
+    ) -> Result<Self> {
         let mut targets = vec![Some(HDR.into()), Some(SOURCE.into())];
         if with_motion {
             targets.push(Some(HDR.into()));
         }
         let constants = specialisation(plan, detection);
+        let parameters = ParameterBuffer::for_device(gpu)?;
+        let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(shaders::CBR_RECONSTRUCT.path),
+            source: wgpu::ShaderSource::Wgsl(parameters.shader_source()?.into()),
+        });
         let pipeline = |label, entry_point| {
             FullscreenPipeline {
                 label,
@@ -167,23 +232,24 @@ impl Reconstruction {
                 depth_stencil: None,
                 samples: 1,
             }
-            .create_specialised(gpu, &constants)
+            .create_from_module(gpu, &module, &constants)
         };
         let entry_point = if with_motion { "fs_reconstruct_showing_motion" } else { "fs_reconstruct" };
         let nothing_moves = !plan.camera_reprojection && !plan.object_motion;
         let still = (nothing_moves && !with_motion)
             .then(|| pipeline("reconstruction of a still frame", "fs_reconstruct_still"));
         let pipeline = pipeline("reconstruction", entry_point);
-        Self {
+        Ok(Self {
             pipeline,
             still,
             detection,
+            parameters,
             colour: gpu.texture("reconstruction", screen, HDR, 1, TARGET_USAGE),
             source: gpu.texture("pixel sources", screen, SOURCE, 1, TARGET_USAGE),
             motion: with_motion.then(|| gpu.texture("reconstruction motion", screen, HDR, 1, TARGET_USAGE)),
             placeholder: gpu.texture("no texture", (1, 1), HDR, 1, wgpu::TextureUsages::TEXTURE_BINDING),
             placeholder_depth: gpu.texture("no depth", (1, 1), DEPTH, 1, wgpu::TextureUsages::TEXTURE_BINDING),
-        }
+        })
     }
 
     pub fn record(
@@ -212,11 +278,10 @@ impl Reconstruction {
             inputs.near_far.0.to_bits(),
         ]);
         words.extend([inputs.near_far.1.to_bits(), 0, 0, 0]);
-        // A storage buffer: see the comment on `rebuild` in the shader.
-        let uniform = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        let parameters = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("reconstruction parameters"),
             contents: bytemuck::cast_slice(&words),
-            usage: wgpu::BufferUsages::STORAGE,
+            usage: self.parameters.usage(),
         });
 
         let view = |t: &wgpu::Texture| t.create_view(&Default::default());
@@ -231,7 +296,7 @@ impl Reconstruction {
         };
         let current = frame_views(Some(inputs.current));
         let previous = frame_views(inputs.previous);
-        let mut resources = vec![uniform.as_entire_binding()];
+        let mut resources = vec![parameters.as_entire_binding()];
         resources.extend(current.iter().chain(&previous).map(wgpu::BindingResource::TextureView));
         let group = bind_group(gpu, "reconstruction", &self.pipeline, 0, &resources);
 
@@ -261,7 +326,7 @@ impl Reconstruction {
                     still,
                     0,
                     &[
-                        (0, uniform.as_entire_binding()),
+                        (0, parameters.as_entire_binding()),
                         (1, wgpu::BindingResource::TextureView(current_colour)),
                         (4, wgpu::BindingResource::TextureView(current_forward)),
                         (5, wgpu::BindingResource::TextureView(previous_colour)),

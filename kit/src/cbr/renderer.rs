@@ -80,7 +80,7 @@ impl Checkerboard {
         let plan = CheckerboardPlan::new(scene, config.path, config.shading);
         let passes = FramePasses::new(gpu, scene, config.screen, plan, config.lod)?;
         let frames = [passes.frame_targets(gpu), passes.frame_targets(gpu)];
-        let reconstruction = Reconstruction::new(gpu, config.screen, &passes.plan, config.detection);
+        let reconstruction = Reconstruction::new(gpu, config.screen, &passes.plan, config.detection)?;
         Ok(Self {
             config,
             scene: scene.clone(),
@@ -93,10 +93,10 @@ impl Checkerboard {
     }
 
     /// The same renderer, its reconstruction also writing the motion each pixel used.
-    pub fn showing_motion(mut self, gpu: &Gpu) -> Self {
+    pub fn showing_motion(mut self, gpu: &Gpu) -> Result<Self> {
         self.reconstruction =
-            Reconstruction::showing_motion(gpu, self.config.screen, &self.passes.plan, self.config.detection);
-        self
+            Reconstruction::showing_motion(gpu, self.config.screen, &self.passes.plan, self.config.detection)?;
+        Ok(self)
     }
 
     pub fn plan(&self) -> &CheckerboardPlan {
