@@ -1,13 +1,17 @@
 //! `cps.extremes`: stiff inputs stay finite and exact. 200 lights on a 1×1 screen; every pixel at
 //! level 8 on a 300×200 screen (fragments larger than the screen); lights placed exactly on
 //! surface points the G-buffer holds (distance 0). No NaN or Inf may reach any lit level or
-//! composite, and the shaded counts stay exact.
+//! composite, and each level's occlusion count is what the policy's definition (its CPU model,
+//! not the GPU's LOD buffer) says it must shade: exact where queries count, else the Boolean
+//! answer a conservative query must give.
 
 use anyhow::Result;
+use fragkit::cps::lod_model::model;
 use fragkit::cps::reference::expected_shaded_texels;
 use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy, MAX_LEVEL};
 use fragkit::deferred::DeferredInputs;
 use fragkit::deferred::lights::LightTexture;
+use fragkit::deferred::phong::read_surfaces;
 use fragkit::harness::{Case, Ctx, Outcome};
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 use fragkit::readback::read_texture;
@@ -31,10 +35,11 @@ fn check_all_modes(
     name: &str,
     inputs: &DeferredInputs,
     policy: LodPolicy,
-    exact_counts: bool,
+    precision: OcclusionPrecision,
 ) -> Result<Vec<String>> {
     let mut problems = Vec::new();
     let size = inputs.gbuffer.size;
+    let surfaces = read_surfaces(ctx.gpu, &inputs.gbuffer)?;
     for composite in CompositeMode::ALL {
         let renderer = CpsRenderer::new(ctx.gpu, size, CpsConfig::new(MAX_LEVEL, policy.clone(), composite))?;
         let output = renderer.render(ctx.gpu, &frame(inputs))?;
@@ -43,7 +48,13 @@ fn check_all_modes(
             values.extend(renderer.read_lit_level(ctx.gpu, level)?);
         }
         let non_finite = values.iter().filter(|v| !v.is_finite()).count();
-        let expected = expected_shaded_texels(size, &renderer.read_lod(ctx.gpu)?, renderer.plan.top_level);
+        // Expected: the policy's definition, evaluated on the CPU.
+        let lod = model(&policy, size, &surfaces, inputs.eye, renderer.plan.top_level);
+        anyhow::ensure!(
+            !lod.ambiguous.contains(&true),
+            "{name}: the scene puts pixels on a level boundary f32 cannot decide; it must not"
+        );
+        let expected = expected_shaded_texels(size, &lod.levels, renderer.plan.top_level);
         ctx.metric(
             &format!("{name}.{}", composite.name()),
             serde_json::json!({"non_finite": non_finite, "shaded": output.shaded_texels, "expected": expected}),
@@ -51,9 +62,12 @@ fn check_all_modes(
         if non_finite > 0 {
             problems.push(format!("{name} {}: {non_finite} non-finite values", composite.name()));
         }
-        if exact_counts && output.shaded_texels != expected {
+        let counts_hold = output.shaded_texels.len() == expected.len()
+            && output.shaded_texels.iter().zip(&expected).all(|(&m, &e)| precision.allows(m, e));
+        if !counts_hold {
             problems.push(format!(
-                "{name} {}: shaded {:?}, expected {expected:?}",
+                "{name} {}: occlusion queries answered {:?} per level, where {expected:?} texels must be shaded \
+                 ({precision:?} queries)",
                 composite.name(),
                 output.shaded_texels
             ));
@@ -63,11 +77,11 @@ fn check_all_modes(
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let exact = measure_occlusion_precision(ctx.gpu)? == OcclusionPrecision::Exact;
+    let precision = measure_occlusion_precision(ctx.gpu)?;
     let mut problems = Vec::new();
 
     let tiny = corridor_inputs(ctx.gpu, (1, 1), 200, 5)?;
-    problems.extend(check_all_modes(ctx, "1x1_200_lights", &tiny, LodPolicy::foveated(), exact)?);
+    problems.extend(check_all_modes(ctx, "1x1_200_lights", &tiny, LodPolicy::foveated(), precision)?);
 
     let wide = corridor_inputs(ctx.gpu, (300, 200), 8, 5)?;
     problems.extend(check_all_modes(
@@ -75,7 +89,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         "300x200_all_level_8",
         &wide,
         LodPolicy::Explicit(vec![8; 300 * 200]),
-        exact,
+        precision,
     )?);
 
     // Lights moved onto surface points the G-buffer holds, bit for bit: distance exactly 0 there.
@@ -102,7 +116,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     renderer.render(ctx.gpu, &frame(&inputs))?;
     let limit = renderer.read_image(ctx.gpu)?;
     inputs.lights = LightTexture::new(ctx.gpu, &scene.lights)?;
-    problems.extend(check_all_modes(ctx, "lights_on_surfaces", &inputs, all_fine, exact)?);
+    problems.extend(check_all_modes(ctx, "lights_on_surfaces", &inputs, all_fine, precision)?);
     renderer.render(ctx.gpu, &frame(&inputs))?;
     let on_surface = renderer.read_image(ctx.gpu)?;
     // 1 % of the value: the 1 mm lift changes attenuation by 1e-6, the direction by f16 rounding.

@@ -121,7 +121,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                     let (m, e, u) = (output.shaded_texels[l], expected[l], undecided[l]);
                     match precision {
                         OcclusionPrecision::Exact => in_range(m, e, u),
-                        _ => (m > 0) == (e > 0) || u > 0,
+                        _ => precision.allows(m, e) || u > 0,
                     }
                 });
             if !counts_agree {

@@ -20,6 +20,21 @@ pub enum OcclusionPrecision {
     Wrong { for_none: u64, for_some: u64, expected: u64 },
 }
 
+impl OcclusionPrecision {
+    /// Whether a query's answer `measured` can be right for a draw of which `expected` samples
+    /// passed: an exact query counts them; a Boolean one (GL's `ANY_SAMPLES_PASSED_CONSERVATIVE`)
+    /// must say 1 where any passed and may say 1 where none did ("conservative"). Nothing holds
+    /// for a query the probe found wrong.
+    pub fn allows(self, measured: u64, expected: u64) -> bool {
+        match self {
+            Self::Exact => measured == expected,
+            Self::Boolean if expected > 0 => measured == 1,
+            Self::Boolean => measured <= 1,
+            Self::Wrong { .. } => false,
+        }
+    }
+}
+
 /// Draws a 3×2-pixel rect on an 8×8 target (6 samples pass) and an empty one (0 pass).
 pub fn measure_occlusion_precision(gpu: &Gpu) -> Result<OcclusionPrecision> {
     gpu.scoped("occlusion precision probe", || {
@@ -64,4 +79,18 @@ pub fn measure_occlusion_precision(gpu: &Gpu) -> Result<OcclusionPrecision> {
             (some, none) => OcclusionPrecision::Wrong { for_none: none, for_some: some, expected: 6 },
         })
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::OcclusionPrecision;
+
+    #[test]
+    fn a_boolean_query_must_see_any_passing_sample_and_may_see_one_where_none_passed() {
+        let boolean = OcclusionPrecision::Boolean;
+        assert!(boolean.allows(1, 2) && boolean.allows(0, 0) && boolean.allows(1, 0));
+        assert!(!boolean.allows(0, 2) && !boolean.allows(2, 2));
+        assert!(OcclusionPrecision::Exact.allows(2, 2) && !OcclusionPrecision::Exact.allows(1, 2));
+        assert!(!OcclusionPrecision::Wrong { for_none: 0, for_some: 0, expected: 6 }.allows(0, 0));
+    }
 }
