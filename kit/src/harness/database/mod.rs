@@ -215,14 +215,17 @@ impl Database {
             .with_context(|| format!("opening {what}"))
     }
 
-    /// Records a whole run in one transaction (a bench, an import); returns its id.
+    /// Records a whole run in one transaction (a bench, an import); returns its id. Its evidence
+    /// is kept as [`Self::record_case_run`] keeps it.
     pub fn record(&mut self, report: &Report, info: &RunInfo, digest: Option<&str>) -> Result<i64> {
         let location = self.location.clone();
+        let evidence_dir = self.evidence_dir.clone();
         self.store
             .transaction(|tx| {
                 let run_id = insert_run(tx, &report.adapter, info, digest, true)?;
                 for (position, case) in report.cases.iter().enumerate() {
-                    insert_case_run(tx, run_id, position, case)?;
+                    let evidence = keep_evidence(evidence_dir.as_deref(), run_id, position, &case.evidence)?;
+                    insert_case_run(tx, run_id, position, &CaseRecord { evidence, ..case.clone() })?;
                 }
                 Ok(run_id)
             })
@@ -243,39 +246,11 @@ impl Database {
     /// server, where the run wrote it.
     pub fn record_case_run(&mut self, run_id: i64, position: usize, case: &CaseRecord) -> Result<()> {
         let location = self.location.clone();
-        let case = &CaseRecord { evidence: self.keep_evidence(run_id, position, &case.evidence)?, ..case.clone() };
+        let evidence = keep_evidence(self.evidence_dir.as_deref(), run_id, position, &case.evidence)?;
+        let case = &CaseRecord { evidence, ..case.clone() };
         self.store
             .transaction(|tx| insert_case_run(tx, run_id, position, case))
             .with_context(|| format!("recording {} of run {run_id} in {location}", case.run_name()))
-    }
-
-    /// The evidence paths to record: each file copied into `evidence_dir/run-ID/` where there is
-    /// one, else made absolute. A file already gone stays as it was named.
-    fn keep_evidence(
-        &self,
-        run_id: i64,
-        position: usize,
-        evidence: &[std::path::PathBuf],
-    ) -> Result<Vec<std::path::PathBuf>> {
-        let mut kept = Vec::new();
-        for path in evidence {
-            let Ok(absolute) = std::fs::canonicalize(path) else {
-                kept.push(path.clone());
-                continue;
-            };
-            let Some(dir) = &self.evidence_dir else {
-                kept.push(absolute);
-                continue;
-            };
-            let dir = dir.join(format!("run-{run_id}"));
-            std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
-            let name = absolute.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-            let copy = dir.join(format!("{position}-{name}"));
-            std::fs::copy(&absolute, &copy)
-                .with_context(|| format!("copying the evidence {} to {}", absolute.display(), copy.display()))?;
-            kept.push(std::fs::canonicalize(&copy)?);
-        }
-        Ok(kept)
     }
 
     /// Marks run `run_id` complete: every case run it planned is recorded.
@@ -557,6 +532,35 @@ fn insert_run(
     .int(0)
 }
 
+/// The evidence paths to record: each file copied into `evidence_dir/run-ID/` where there is
+/// one, else made absolute. A file already gone stays as it was named.
+fn keep_evidence(
+    evidence_dir: Option<&std::path::Path>,
+    run_id: i64,
+    position: usize,
+    evidence: &[std::path::PathBuf],
+) -> Result<Vec<std::path::PathBuf>> {
+    let mut kept = Vec::new();
+    for path in evidence {
+        let Ok(absolute) = std::fs::canonicalize(path) else {
+            kept.push(path.clone());
+            continue;
+        };
+        let Some(dir) = evidence_dir else {
+            kept.push(absolute);
+            continue;
+        };
+        let dir = dir.join(format!("run-{run_id}"));
+        std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+        let name = absolute.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let copy = dir.join(format!("{position}-{name}"));
+        std::fs::copy(&absolute, &copy)
+            .with_context(|| format!("copying the evidence {} to {}", absolute.display(), copy.display()))?;
+        kept.push(std::fs::canonicalize(&copy)?);
+    }
+    Ok(kept)
+}
+
 fn insert_case_run(tx: &mut Transaction, run_id: i64, position: usize, case: &CaseRecord) -> Result<()> {
     let (params, evidence, metrics, repeats) = (
         serde_json::to_string(&case.params)?,
@@ -790,6 +794,30 @@ mod tests {
         // A schema newer than this kit is refused.
         rusqlite::Connection::open(&path).unwrap().pragma_update(None, "user_version", 99).unwrap();
         assert!(format!("{:#}", Database::open(location).err().unwrap()).contains("schema version 99"));
+        std::fs::remove_file(&path).ok();
+    }
+
+    #[test]
+    fn an_imported_runs_evidence_is_kept_beside_the_database() {
+        let path = std::env::temp_dir().join(format!("fragkit-db-import-evidence-{}.sqlite", std::process::id()));
+        std::fs::remove_file(&path).ok();
+        let mut db = Database::open(path.to_str().unwrap()).unwrap();
+        let image = std::env::temp_dir().join(format!("fragkit-db-import-evidence-{}.png", std::process::id()));
+        std::fs::write(&image, b"png").unwrap();
+        let mut imported = report();
+        imported.cases[0].evidence = vec![image.clone()];
+        let info = RunInfo { kind: RunKind::Import, ..Default::default() };
+        let id = db.record(&imported, &info, None).unwrap();
+        // The report's folder may go once it is imported.
+        std::fs::remove_file(&image).unwrap();
+        let kept = &db.load(id).unwrap().cases[0].evidence[0];
+        assert!(
+            kept.starts_with(std::fs::canonicalize(path.with_extension("evidence")).unwrap()),
+            "{}",
+            kept.display()
+        );
+        assert_eq!(std::fs::read(kept).unwrap(), b"png");
+        std::fs::remove_dir_all(path.with_extension("evidence")).ok();
         std::fs::remove_file(&path).ok();
     }
 
