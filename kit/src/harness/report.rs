@@ -245,12 +245,8 @@ impl Report {
             }
             let chosen = records.iter().find(|r| r.outcome.is_failure(true)).unwrap_or(&records[0]);
             let times: Option<Vec<f64>> = records.iter().map(|r| r.gpu_ms).collect();
-            let gpu_ms = times.as_deref().map(|t| {
-                let mut sorted = t.to_vec();
-                sorted.sort_by(f64::total_cmp);
-                let n = sorted.len();
-                if n % 2 == 1 { sorted[n / 2] } else { (sorted[n / 2 - 1] + sorted[n / 2]) / 2.0 }
-            });
+            // The kit's one median of times (`query::median`), as a run's repeats get.
+            let gpu_ms = times.as_deref().map(|t| crate::query::median(t.to_vec()));
             cases.push(CaseRecord { gpu_ms, gpu_ms_repeats: times.unwrap_or_default(), ..(*chosen).clone() });
         }
         for (path, report) in &reports {
@@ -350,6 +346,10 @@ mod tests {
         let pooled = Report::pool_processes((0..3).map(named).collect()).unwrap();
         assert_eq!((pooled.cases[0].gpu_ms, pooled.cases[0].gpu_ms_repeats.clone()), (Some(2.0), vec![3.0, 1.0, 2.0]));
         assert_eq!((pooled.cases[1].gpu_ms, pooled.cases[1].outcome), (None, Fail));
+        // An even count takes the upper of the middle two, as a run's own repeats do.
+        let two = Report::pool_processes((0..2).map(named).collect()).unwrap();
+        assert_eq!(two.cases[0].gpu_ms, Some(crate::query::median(vec![3.0, 1.0])));
+        assert_eq!(two.cases[0].gpu_ms, Some(3.0));
         let other = report(&[("a", Some(1.0), Pass)]);
         assert!(Report::pool_processes(vec![named(0), (PathBuf::from("x.json"), other)]).is_err());
     }

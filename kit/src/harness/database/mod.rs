@@ -690,12 +690,19 @@ pub struct DatabaseSink {
     pub run_id: Option<i64>,
     adapter: AdapterDescription,
     recorded: usize,
-    pending: Vec<CaseRecord>,
+    pending: std::collections::VecDeque<CaseRecord>,
 }
 
 impl DatabaseSink {
     pub fn new(database: Database, info: RunInfo) -> Self {
-        Self { database, info, run_id: None, adapter: AdapterDescription::default(), recorded: 0, pending: Vec::new() }
+        Self {
+            database,
+            info,
+            run_id: None,
+            adapter: AdapterDescription::default(),
+            recorded: 0,
+            pending: Default::default(),
+        }
     }
 
     /// Writes the run's start, where not yet written, and every waiting case run.
@@ -704,9 +711,9 @@ impl DatabaseSink {
             Some(id) => id,
             None => *self.run_id.insert(self.database.begin_run(&self.adapter, &self.info)?),
         };
-        while let Some(record) = self.pending.first() {
+        while let Some(record) = self.pending.front() {
             self.database.record_case_run(run_id, self.recorded, record)?;
-            self.pending.remove(0);
+            self.pending.pop_front();
             self.recorded += 1;
         }
         Ok(())
@@ -731,7 +738,7 @@ impl super::run::Sink for DatabaseSink {
     }
 
     fn record(&mut self, record: &CaseRecord) -> Result<()> {
-        self.pending.push(record.clone());
+        self.pending.push_back(record.clone());
         self.flush_or_wait();
         Ok(())
     }
