@@ -126,9 +126,14 @@ impl ShaderFile {
     }
 
     pub fn module(&self, gpu: &Gpu) -> wgpu::ShaderModule {
+        self.module_from(gpu, self.assembled())
+    }
+
+    /// This file's module compiled from `source`: its assembled text, changed for the device.
+    pub fn module_from(&self, gpu: &Gpu, source: String) -> wgpu::ShaderModule {
         gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(self.path),
-            source: wgpu::ShaderSource::Wgsl(self.assembled().into()),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
         })
     }
 
@@ -145,9 +150,6 @@ impl ShaderFile {
     /// [`Self::module`] for a pipeline of `samples` per pixel: [`Self::single_sampled`] at 1.
     pub fn module_for_samples(&self, gpu: &Gpu, samples: u32) -> wgpu::ShaderModule {
         let source = if samples == 1 { self.single_sampled() } else { self.assembled() };
-        gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(self.path),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        })
+        self.module_from(gpu, source)
     }
 }

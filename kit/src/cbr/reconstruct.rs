@@ -112,8 +112,7 @@ pub const SOURCE: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
 /// where fragment shaders have storage buffers (the shader says why not a uniform), else a uniform
 /// buffer. GL 3.3 (softpipe) has no storage buffers, and the pass only reads its parameters, so
 /// it runs there too; the struct's layout is the same in both address spaces.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ParameterBuffer {
     Storage,
     Uniform,
@@ -162,7 +161,7 @@ pub struct Reconstruction {
     /// Where nothing moves: `fs_reconstruct_still`, for frames with history (all but column 0).
     still: Option<wgpu::RenderPipeline>,
     detection: Detection,
-    pub parameters: ParameterBuffer,
+    parameters: ParameterBuffer,
     pub colour: wgpu::Texture,
     pub source: wgpu::Texture,
     /// The motion each pixel used, for pictures (`Reconstruction::showing_motion`).
@@ -219,10 +218,7 @@ impl Reconstruction {
         }
         let constants = specialisation(plan, detection);
         let parameters = ParameterBuffer::for_device(gpu)?;
-        let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(shaders::CBR_RECONSTRUCT.path),
-            source: wgpu::ShaderSource::Wgsl(parameters.shader_source()?.into()),
-        });
+        let module = shaders::CBR_RECONSTRUCT.module_from(gpu, parameters.shader_source()?);
         let pipeline = |label, entry_point| {
             FullscreenPipeline {
                 label,
