@@ -27,6 +27,7 @@ pub const ALL: &[Case] = &[
     kit::deferred_gbuffer::CASE,
     kit::deferred_lighting::CASE,
     kit::mip_fetch::CASE,
+    kit::indirect_draw::CASE,
     cps::lod_policy::CASE,
     cps::stencil_equal_counts::CASE,
     cps::level_lighting::CASE,

@@ -55,7 +55,7 @@ fn main() -> ExitCode {
 
 fn run(cli: Cli) -> Result<ExitCode> {
     fragkit::shaders::check_shader_dir()?;
-    let selector = AdapterSelector { backend: cli.backend, adapter_name: cli.adapter };
+    let selector = AdapterSelector { backend: cli.backend, adapter_name: cli.adapter, driver_info: cli.driver_info };
     match cli.command {
         Command::Adapters(args) => return cli::adapters::adapters(&selector, args, cli.verbose),
         Command::Caps(args) => cli::caps::caps(&selector, args)?,

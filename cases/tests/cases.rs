@@ -67,6 +67,7 @@ case_tests! {
     kit_deferred_gbuffer => "kit.deferred.gbuffer",
     kit_deferred_lighting => "kit.deferred.lighting",
     kit_fetch_per_pixel_level => "kit.fetch.per_pixel_level",
+    kit_draw_indirect => "kit.draw.indirect",
     cps_lod_policy => "cps.lod_policy",
     cps_stencil_equal_counts => "cps.stencil_equal.counts",
     cps_level_lighting => "cps.level_lighting",

@@ -16,6 +16,10 @@ pub struct AdapterSelector {
     pub backend: Option<String>,
     /// A case-insensitive substring of the adapter name.
     pub adapter_name: Option<String>,
+    /// A case-insensitive glob the adapter's driver info must match (`OpenGL ES 3.0*`): a
+    /// configuration holds its adapter to the context or driver it promises, so a run that got
+    /// another (an override the driver ignored) fails instead of testing something else.
+    pub driver_info: Option<String>,
 }
 
 /// What the report says about an adapter.
@@ -68,6 +72,8 @@ pub struct Gpu {
     /// What `probe::fragment_storage` found on this device, once it has run: the plan of every
     /// CPS renderer and every sample-position sweep asks, and one render answers for the device.
     pub(crate) fragment_storage: std::sync::OnceLock<Option<String>>,
+    /// What `probe::indirect_draw` found on this device, once it has run (every CPS plan asks).
+    pub(crate) indirect_draw: std::sync::OnceLock<Option<String>>,
 }
 
 /// A command encoder whose GPU time counts towards the running case.
@@ -154,6 +160,16 @@ pub fn select_adapter(selector: &AdapterSelector) -> Result<wgpu::Adapter> {
         }
         None => candidates,
     };
+    if let Some(pattern) = &selector.driver_info {
+        let glob = glob::Pattern::new(pattern).with_context(|| format!("--driver-info {pattern:?} is not a glob"))?;
+        let options = glob::MatchOptions { case_sensitive: false, ..Default::default() };
+        let found: Vec<String> =
+            matching.iter().map(|a| format!("{} ({})", a.get_info().name, a.get_info().driver_info)).collect();
+        matching.retain(|a| glob.matches_with(&a.get_info().driver_info, options));
+        if matching.is_empty() {
+            bail!("no adapter's driver info matches {pattern:?} (--driver-info); adapters found: {found:?}");
+        }
+    }
     // Prefer real hardware, then Vulkan over GL: the order wgpu's own default follows.
     matching.sort_by_key(|a| {
         let info = a.get_info();
@@ -209,6 +225,7 @@ impl Gpu {
             clock,
             lost,
             fragment_storage: std::sync::OnceLock::new(),
+            indirect_draw: std::sync::OnceLock::new(),
         })
     }
 
@@ -246,8 +263,12 @@ impl Gpu {
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let result = body();
         let errors = [validation.pop(), memory.pop(), internal.pop()].map(pollster::block_on);
-        if let Some(error) = errors.into_iter().flatten().next() {
-            bail!("wgpu error during {what}: {error}");
+        let mut errors = errors.into_iter().flatten();
+        if let Some(error) = errors.next() {
+            // A pipeline the driver's compiler refused is an internal error, and each later use
+            // of it a validation error: the cause follows the first symptom.
+            let causes: Vec<String> = errors.map(|e| format!("\n(also: {e})")).collect();
+            bail!("wgpu error during {what}: {error}{}", causes.concat());
         }
         result
     }

@@ -74,10 +74,14 @@ impl OcclusionQueries {
     }
 }
 
-/// GPU time of whole render passes, from a begin/end timestamp pair per pass.
+/// GPU time of whole render passes, from a begin/end timestamp pair per pass; and, with or
+/// without timestamps, which passes were recorded.
 pub struct GpuTimer {
     queries: Option<ResolvedQueries>,
     labels: Vec<String>,
+    /// Every pass recorded since the last read, timed or not (an adapter without timestamps —
+    /// GLES, WebGL2 — still says which passes a frame recorded).
+    recorded: Vec<String>,
     period_ns: f64,
     /// Passes that found the timer full (warned about once).
     untimed: u32,
@@ -96,7 +100,13 @@ impl GpuTimer {
         let queries = gpu
             .has(wgpu::Features::TIMESTAMP_QUERY)
             .then(|| ResolvedQueries::new(&gpu.device, wgpu::QueryType::Timestamp, passes * 2, "pass timestamps"));
-        Self { queries, labels: Vec::new(), period_ns: f64::from(gpu.queue.get_timestamp_period()), untimed: 0 }
+        Self {
+            queries,
+            labels: Vec::new(),
+            recorded: Vec::new(),
+            period_ns: f64::from(gpu.queue.get_timestamp_period()),
+            untimed: 0,
+        }
     }
 
     pub fn is_active(&self) -> bool {
@@ -106,6 +116,7 @@ impl GpuTimer {
     /// Timestamp writes for the next pass, or `None` when the adapter has no timestamps or
     /// the timer is full (that pass then goes untimed rather than failing).
     pub fn pass(&mut self, label: &str) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        self.recorded.push(label.to_owned());
         let queries = self.queries.as_ref()?;
         let index = self.labels.len() as u32 * 2;
         if index + 2 > queries.count {
@@ -129,9 +140,15 @@ impl GpuTimer {
         }
     }
 
+    /// The passes recorded since the last read, in order, timed or not.
+    pub fn recorded(&self) -> &[String] {
+        &self.recorded
+    }
+
     /// The passes' times once the encoder holding [`Self::resolve`] was submitted; empty
     /// without timestamps. Clears the timer for reuse.
     pub fn read(&mut self, gpu: &Gpu) -> Result<Vec<PassTime>> {
+        self.recorded.clear();
         let Some(queries) = &self.queries else {
             return Ok(Vec::new());
         };

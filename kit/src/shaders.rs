@@ -44,6 +44,7 @@ shader_files! {
     HEAVY_SHADING => "kit/heavy_shading.wgsl",
     FRAGMENT_COUNTER => "kit/fragment_counter.wgsl",
     FRAGMENT_STORAGE => "kit/fragment_storage.wgsl",
+    INDIRECT_DRAW => "kit/indirect_draw.wgsl",
     NOISE_TRIANGLES => "kit/noise_triangles.wgsl",
     MIP_FETCH => "kit/mip_fetch.wgsl",
     HASH_VALUES => "kit/hash_values.wgsl",

@@ -4,6 +4,10 @@
 // across a SIMD vector, as in the CPS composite), and the level as a loop counter (uniform in
 // every lane).
 
+// A bound on any texture's mip count (2^15 texels a side at most): the loop needs no
+// textureNumLevels, which GLSL ES has no counterpart of (GLES 3.x, WebGL2).
+const MAX_LEVELS = 16u;
+
 @group(0) @binding(0) var level_map: texture_2d<u32>;
 @group(0) @binding(1) var source: texture_2d<u32>;
 
@@ -19,7 +23,7 @@ fn fs_fetch_uniform_level(@builtin(position) position: vec4f) -> @location(0) u3
     let p = vec2u(position.xy);
     let level = textureLoad(level_map, p, 0).x;
     var value = 0u;
-    for (var l = 0u; l < textureNumLevels(source); l++) {
+    for (var l = 0u; l < MAX_LEVELS; l++) {
         if l == level {
             value = textureLoad(source, p >> vec2u(l), i32(l)).x;
         }

@@ -183,7 +183,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 serde_json::json!({"psnr_db": error.psnr_db, "flip": error.flip, "sources": counts, "passes": frame.passes}),
             );
             if frame.passes != frame.planned {
-                problems.push(format!("{key}: ran passes {:?}, the plan lists {:?}", frame.passes, frame.planned));
+                problems.push(format!("{key}: recorded passes {:?}, the plan lists {:?}", frame.passes, frame.planned));
             }
             if detection == Detection::DEFAULT_CSO {
                 cso = error.psnr_db;

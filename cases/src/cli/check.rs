@@ -301,7 +301,7 @@ fn check_matrix(
     names: &str,
     expectations: &Expectations,
 ) -> Result<ExitCode> {
-    check_selection_is_free(&selector.backend, &selector.adapter_name)?;
+    check_selection_is_free(selector)?;
     anyhow::ensure!(
         args.json.is_none() && args.junit.is_none(),
         "with --matrix each configuration writes <reports>/<name>.json and <name>.junit.xml; drop --json/--junit"
@@ -324,7 +324,17 @@ fn check_matrix(
         }
     }
     let inherited = arguments_without(
-        &["--matrix", "--adapters-file", "--reports", "--out", "--html", "--backend", "--adapter", "--snapshots"],
+        &[
+            "--matrix",
+            "--adapters-file",
+            "--reports",
+            "--out",
+            "--html",
+            "--backend",
+            "--adapter",
+            "--driver-info",
+            "--snapshots",
+        ],
         &["--update-snapshots", "--github"],
     );
     let runs = run_children(&matrix, names, reports, Show::Progress, |configuration| {

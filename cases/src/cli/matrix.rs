@@ -81,11 +81,12 @@ pub fn arguments_without(strip: &[&str], switches: &[&str]) -> Vec<OsString> {
     kept
 }
 
-/// Refuses what --matrix cannot combine with: a backend or adapter chosen for all configurations.
-pub fn check_selection_is_free(backend: &Option<String>, adapter: &Option<String>) -> Result<()> {
-    if backend.is_some() || adapter.is_some() {
+/// Refuses what --matrix cannot combine with: a backend, adapter or driver chosen for all
+/// configurations.
+pub fn check_selection_is_free(selector: &fragkit::gpu::AdapterSelector) -> Result<()> {
+    if selector.backend.is_some() || selector.adapter_name.is_some() || selector.driver_info.is_some() {
         bail!(
-            "--matrix picks each configuration's backend and adapter; drop --backend/--adapter (or WGPU_BACKEND/WGPU_ADAPTER_NAME)"
+            "--matrix picks each configuration's backend, adapter and driver; drop --backend/--adapter/--driver-info (or WGPU_BACKEND/WGPU_ADAPTER_NAME)"
         );
     }
     Ok(())
@@ -138,6 +139,7 @@ pub fn run_children<'a>(
             .arg(&configuration.backend)
             .arg("--adapter")
             .arg(&configuration.adapter)
+            .args(configuration.driver_info.iter().flat_map(|glob| ["--driver-info", glob.as_str()]))
             .args(arguments(configuration))
             .stdin(Stdio::null())
             .stdout(log_file.try_clone().context("sharing the log file")?)
@@ -169,11 +171,13 @@ pub fn run_each_showing_output(
     names: &str,
     command: &str,
 ) -> Result<()> {
-    check_selection_is_free(&selector.backend, &selector.adapter_name)?;
+    check_selection_is_free(selector)?;
     let matrix = args.load()?;
     let reports = &args.reports;
-    let inherited =
-        arguments_without(&["--matrix", "--adapters-file", "--reports", "--json", "--backend", "--adapter"], &[]);
+    let inherited = arguments_without(
+        &["--matrix", "--adapters-file", "--reports", "--json", "--backend", "--adapter", "--driver-info"],
+        &[],
+    );
     let runs = run_children(&matrix, names, reports, Show::Logs, |configuration| {
         let mut arguments = inherited.clone();
         let json = reports.join(format!("{}.{command}.json", configuration.file_stem()));

@@ -27,6 +27,10 @@ pub struct Cli {
     /// Substring of the adapter name.
     #[arg(long, global = true, env = "WGPU_ADAPTER_NAME")]
     pub adapter: Option<String>,
+    /// Glob the adapter's driver info must match (e.g. 'OpenGL ES 3.0*'); no matching adapter is
+    /// an error, never another adapter.
+    #[arg(long, global = true)]
+    pub driver_info: Option<String>,
     /// Print what wgpu and the driver log (kept in the JSON report otherwise) and every reason
     /// whole.
     #[arg(long, short, global = true)]

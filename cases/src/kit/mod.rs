@@ -5,6 +5,7 @@ pub mod deferred_lighting;
 pub mod determinism;
 pub mod early_rejection;
 pub mod hash_values;
+pub mod indirect_draw;
 pub mod mip_fetch;
 pub mod msaa_sample_positions;
 pub mod occlusion_exact;

@@ -88,9 +88,8 @@ fn sample_positions(ctx: &mut Ctx, samples: u32) -> Result<Outcome> {
     }
     let Some(positions) = measurement.agreed().cloned() else {
         if measurement.routes.is_empty() {
-            return Ok(Outcome::NotSupported(
-                "a way to read single samples (no honoured mask, no fragment storage)".into(),
-            ));
+            let why: Vec<String> = measurement.skipped.iter().map(|(route, why)| format!("{route:?}: {why}")).collect();
+            return Ok(Outcome::NotSupported(format!("a way to read single samples ({})", why.join("; "))));
         }
         if measurement.routes.iter().filter(|(_, r)| r.is_ok()).count() > 1 {
             problems.push("the routes disagree on the positions".into());

@@ -9,6 +9,7 @@ use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRan
 use fragkit::probe::multisample_render::render_problem;
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 use fragkit::probe::sample_positions::{measure, standard_positions};
+use fragkit::probe::sample_projections::measure_projections;
 use fragkit::query::OcclusionQueries;
 use fragkit::rects::{Rect, RectBatch, RectPipeline, stencil_equal, stencil_replace};
 use fragkit::scene::hash::SeededRng;
@@ -132,13 +133,21 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             }
         }
         // Expectations use the standard positions, which the edge sweep must confirm
-        // (kit.msaa.sample_positions judges them); the pattern's edges avoid only those.
+        // (kit.msaa.sample_positions judges them); the pattern's edges avoid only those. Where
+        // no route reads single samples, the unmasked sweep confirms each axis's coordinates.
         let measured = measure(ctx.gpu, samples)?;
-        let measured = measured
-            .agreed()
-            .context("the sample positions could not be measured consistently; see kit.msaa.sample_positions")?;
+        let standard = if !measured.read_single_samples() {
+            let projections = measure_projections(ctx.gpu, samples)?;
+            ctx.metric(&format!("{samples}x.positions_from"), "projections (no route reads single samples)");
+            projections.matches_standard(samples)
+        } else {
+            let positions = measured
+                .agreed()
+                .context("the sample positions could not be measured consistently; see kit.msaa.sample_positions")?;
+            matches_standard(samples, positions)
+        };
         anyhow::ensure!(
-            samples <= 4 && matches_standard(samples, measured),
+            samples <= 4 && standard,
             "{samples}x samples are not at the standard positions (or not on the 1/8-px grid the pattern avoids); see kit.msaa.sample_positions"
         );
         let positions = standard_positions(samples).context("no standard table for this count")?;

@@ -55,7 +55,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         measure(ctx.gpu, samples)?.agreed().map(|p| p.iter().filter_map(|s| s.mid()).collect::<Vec<_>>())
     else {
         return Ok(Outcome::NotSupported(format!(
-            "measured {samples}x sample positions (see kit.msaa.sample_positions)"
+            "measured {samples}x sample positions: the exact composite is computed at the positions this adapter samples, and no route reads single samples here (see kit.msaa.sample_positions)"
         )));
     };
     let scene = QuadScene::paper();

@@ -54,7 +54,8 @@ pub fn check_checkerboard_screen(gpu: &Gpu, screen: (u32, u32)) -> Result<()> {
     Ok(())
 }
 
-/// One rendered frame: its GPU time and the passes that ran, with each one's time.
+/// One rendered frame: its GPU time, the passes it recorded and each one's time (where the
+/// adapter has timestamps).
 #[derive(Clone, Debug)]
 pub struct RenderedFrame {
     pub gpu_ms: f64,
@@ -134,11 +135,14 @@ impl Checkerboard {
             Ok(())
         })?;
         self.last = Some(index);
+        // The passes the frame recorded: without timestamps they go untimed (`pass_ms` empty),
+        // not unlisted.
+        let passes = self.timer.recorded().to_vec();
         let times = self.timer.read(gpu)?;
         Ok(RenderedFrame {
             gpu_ms: times.iter().map(|t| t.ms).sum(),
             pass_ms: times.iter().map(|t| t.ms).collect(),
-            passes: times.into_iter().map(|t| t.label).collect(),
+            passes,
         })
     }
 }

@@ -4,7 +4,7 @@
 use anyhow::{Context, Result};
 use image::{Rgba, RgbaImage};
 
-use super::renderer::CpsRenderer;
+use super::renderer::{CpsRenderer, LevelDraws};
 use crate::gpu::Gpu;
 use crate::readback::{read_buffer_words, read_stencil, read_texture};
 use crate::tonemap::to_display;
@@ -48,12 +48,15 @@ impl CpsRenderer {
         Ok(read_texture(gpu, &self.image, wgpu::TextureAspect::All, 0)?.as_f16())
     }
 
-    /// Each level's indirect lighting draw arguments (levels 0..=top: vertex count, instance
-    /// count, first vertex, first instance), as the frame left them: instance count 0 for a level
-    /// the GPU found absent where the plan skips absent levels.
-    pub fn read_level_draws(&self, gpu: &Gpu) -> Result<Vec<[u32; 4]>> {
-        let words = read_buffer_words(gpu, &self.level_draws)?;
-        Ok(words.chunks_exact(4).take(self.plan.levels() as usize).map(|d| [d[0], d[1], d[2], d[3]]).collect())
+    /// Each level's lighting draw arguments as the GPU counted them (levels 0..=top: vertex
+    /// count, instance count, first vertex, first instance): instance count 0 for a level the
+    /// GPU found absent. None where the levels are drawn directly, one instance each.
+    pub fn read_level_draws(&self, gpu: &Gpu) -> Result<Option<Vec<[u32; 4]>>> {
+        let LevelDraws::Counted(arguments) = &self.level_draws else {
+            return Ok(None);
+        };
+        let words = read_buffer_words(gpu, arguments)?;
+        Ok(Some(words.chunks_exact(4).take(self.plan.levels() as usize).map(|d| [d[0], d[1], d[2], d[3]]).collect()))
     }
 
     /// Level `level`'s stencil (data region only): 1 where the level shades.

@@ -21,7 +21,8 @@ pub struct Plan {
     /// least ceil(screen / 2^l) (a mip is floor(base / 2^l)).
     pub padded: (u32, u32),
     /// Levels no pixel uses are drawn with zero instances, the counts written by a fragment pass
-    /// (needs fragment storage writes); otherwise every level is drawn and the stencil rejects all.
+    /// (needs fragment storage writes and indirect draws that render); otherwise every level is
+    /// drawn directly and the stencil rejects all.
     pub skip_absent_levels_on_gpu: bool,
     /// The stencil pyramid (absent for the naive, shade-everything comparison).
     pub stencil_pyramid: bool,
@@ -120,10 +121,11 @@ impl Plan {
             level_extents,
             level_bounds,
             padded,
-            // Fragment storage as a render showed it, not as the flag claims (softpipe's GL 3.3).
+            // Fragment storage and indirect draws as renders showed them, not as the flags claim
+            // (softpipe's GL 3.3 claims storage; GLES 3.1 refuses indirect draws under wgpu-hal).
             skip_absent_levels_on_gpu: stencil_pyramid
                 && !levels_from_foveation
-                && gpu.adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::INDIRECT_EXECUTION)
+                && crate::probe::indirect_draw::indirect_draw_problem(gpu)?.is_none()
                 && crate::probe::fragment_storage::fragment_storage_problem(gpu)?.is_none(),
             stencil_pyramid,
             levels_from_foveation,

@@ -101,10 +101,24 @@ fn begin<'e>(
     pass
 }
 
-/// Where level `level`'s indirect draw arguments (four `u32` words) start in
-/// `CpsRenderer::level_draws`, which the marks and the lighting draw of the level share.
-pub(super) fn level_draw_offset(level: usize) -> u64 {
-    16 * level as u64
+/// How each level's full-screen triangle is drawn; a level's marks and its lighting share it.
+pub(crate) enum LevelDraws {
+    /// Directly, one instance a level: every level is drawn and its stencil rejects what it need
+    /// not shade. Coarse pixel shading needs nothing more (an adapter without indirect draws —
+    /// GLES 3.0, WebGL2 — runs the technique this way).
+    Direct,
+    /// From arguments (four `u32` words a level) that the LOD pass counts into this buffer
+    /// (`Plan::skip_absent_levels_on_gpu`): zero instances for a level no pixel uses.
+    Counted(wgpu::Buffer),
+}
+
+impl LevelDraws {
+    pub(super) fn draw(&self, pass: &mut wgpu::RenderPass<'_>, level: usize) {
+        match self {
+            Self::Direct => pass.draw(0..3, 0..1),
+            Self::Counted(arguments) => pass.draw_indirect(arguments, 16 * level as u64),
+        }
+    }
 }
 
 pub struct CpsRenderer {
@@ -128,8 +142,8 @@ pub struct CpsRenderer {
     pub lit: wgpu::Texture,
     /// The composite (`Rgba16Float`, screen-sized).
     pub image: wgpu::Texture,
-    /// Indirect draw arguments of each level's lighting draw.
-    pub(crate) level_draws: wgpu::Buffer,
+    /// How each level's marks and lighting are drawn.
+    pub(crate) level_draws: LevelDraws,
     /// The LOD buffer and mask level 0 from the policy, or (the caller's own LOD) mask level 0
     /// from the LOD buffer, or (levels from the foveation) the LOD buffer alone.
     lod_pipeline: wgpu::RenderPipeline,
@@ -238,15 +252,20 @@ impl CpsRenderer {
             })
             .collect();
         let light_spans = foveated.map(|(_, spans)| spans);
-        let level_draws = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("level draws"),
-            size: 16 * 9,
-            usage: wgpu::BufferUsages::STORAGE
-                | wgpu::BufferUsages::INDIRECT
-                | wgpu::BufferUsages::COPY_DST
-                | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
+        // An indirect buffer only where the GPU counts the levels: wgpu refuses one without
+        // indirect execution.
+        let level_draws = match plan.skip_absent_levels_on_gpu {
+            true => LevelDraws::Counted(gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("level draws"),
+                size: 16 * 9,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::INDIRECT
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })),
+            false => LevelDraws::Direct,
+        };
         Ok(Self {
             lod_view: lod.create_view(&Default::default()),
             lod,
@@ -288,11 +307,11 @@ impl CpsRenderer {
         let levels = self.plan.levels();
         let mut timer = GpuTimer::new(gpu, 6 * levels + 8);
         let queries = OcclusionQueries::new(gpu, levels);
-        // Drawn from where a level is a full-screen triangle (its spans are direct draws).
-        if self.light_spans.is_none() {
-            let draws: Vec<[u32; 4]> =
-                (0..9).map(|_| [3, u32::from(!self.plan.skip_absent_levels_on_gpu), 0, 0]).collect();
-            gpu.queue.write_buffer(&self.level_draws, 0, bytemuck::cast_slice(&draws));
+        // Counted from zero instances where a level is a full-screen triangle (the LOD pass adds
+        // one where a pixel uses the level).
+        if let (None, LevelDraws::Counted(arguments)) = (&self.light_spans, &self.level_draws) {
+            let draws: Vec<[u32; 4]> = (0..9).map(|_| [3, 0, 0, 0]).collect();
+            gpu.queue.write_buffer(arguments, 0, bytemuck::cast_slice(&draws));
         }
         if let LodPolicy::Explicit(values) = &self.config.policy {
             gpu.queue.write_texture(
@@ -431,10 +450,12 @@ impl CpsRenderer {
             resources.push((2, wgpu::BindingResource::TextureView(&self.lod_view)));
         }
         let group = bind_group_at(gpu, "lod", &self.lod_pipeline, 0, &resources);
-        let counts = self
-            .plan
-            .skip_absent_levels_on_gpu
-            .then(|| bind_group(gpu, "level draws", &self.lod_pipeline, 1, &[self.level_draws.as_entire_binding()]));
+        let counts = match &self.level_draws {
+            LevelDraws::Counted(arguments) => {
+                Some(bind_group(gpu, "level draws", &self.lod_pipeline, 1, &[arguments.as_entire_binding()]))
+            }
+            LevelDraws::Direct => None,
+        };
         let written: Vec<&wgpu::TextureView> = match (&self.mask, &self.config.policy) {
             (None, _) => vec![&self.lod_view],
             (Some(mask), LodPolicy::Explicit(_)) => vec![&mask.chain.level_views[0]],
@@ -555,7 +576,7 @@ impl CpsRenderer {
                 }
                 None => {
                     self.plan.set_level_viewport(&mut pass, level);
-                    pass.draw_indirect(&self.level_draws, level_draw_offset(level));
+                    self.level_draws.draw(&mut pass, level);
                 }
             }
             pass.end_occlusion_query();

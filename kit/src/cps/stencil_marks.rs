@@ -7,7 +7,7 @@
 use super::config::LodPolicy;
 use super::level_spans::SpanBatch;
 use super::plan::Plan;
-use super::renderer::{STENCIL, level_draw_offset};
+use super::renderer::{LevelDraws, STENCIL};
 use super::targets::MipChain;
 use crate::deferred::lighting::HDR;
 use crate::fullscreen::{FullscreenPipeline, bind_group_at, uniform_buffer};
@@ -95,10 +95,10 @@ impl StencilMarks {
     }
 
     /// Every level's marks, into `pass` (stencil reference 1). From the pyramid, each level is
-    /// drawn with its lighting draw's indirect arguments (`level_draws`): where the plan skips
-    /// absent levels on the GPU, a level no pixel uses marks nothing, so its whole rect is not run
-    /// through the mark shader only to be discarded.
-    pub(super) fn record(&self, pass: &mut wgpu::RenderPass<'_>, plan: &Plan, level_draws: &wgpu::Buffer) {
+    /// drawn as its lighting draw is (`level_draws`): where the plan skips absent levels on the
+    /// GPU, a level no pixel uses marks nothing, so its whole rect is not run through the mark
+    /// shader only to be discarded.
+    pub(super) fn record(&self, pass: &mut wgpu::RenderPass<'_>, plan: &Plan, level_draws: &LevelDraws) {
         pass.set_stencil_reference(1);
         match self {
             Self::Pyramid { pipelines, level_groups } => {
@@ -106,7 +106,7 @@ impl StencilMarks {
                     pass.set_pipeline(&pipelines[level % 2]);
                     pass.set_bind_group(0, group, &[]);
                     plan.set_level_viewport(pass, level);
-                    pass.draw_indirect(level_draws, level_draw_offset(level));
+                    level_draws.draw(pass, level);
                 }
             }
             Self::Foveated { pipeline, group, spans } => {

@@ -47,6 +47,24 @@ pub fn take() -> Vec<String> {
     std::mem::take(&mut *CAPTURED.lock().unwrap_or_else(|e| e.into_inner()))
 }
 
+/// The GL API errors among `records` (wgpu-hal's relay of GL debug output: "GLES: [API/Error]
+/// ID n : message"), each distinct message once with its count, in order of first appearance.
+/// Shader compiler messages are left out: wgpu reports the pipeline they break as an error.
+pub fn gl_api_errors(records: &[String]) -> Vec<String> {
+    let mut counted: Vec<(String, usize)> = Vec::new();
+    for record in records {
+        let Some((_, message)) = record.split_once("[API/Error]") else {
+            continue;
+        };
+        let message = message.split_once(" : ").map_or(message, |(_, text)| text).trim().to_owned();
+        match counted.iter_mut().find(|(seen, _)| *seen == message) {
+            Some((_, count)) => *count += 1,
+            None => counted.push((message, 1)),
+        }
+    }
+    counted.into_iter().map(|(message, count)| format!("{message} (x{count})")).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -61,5 +79,20 @@ mod tests {
         assert!(taken.iter().any(|l| l == "WARN wgpu_hal::gles::egl: DRI2: failed to load driver"), "{taken:?}");
         assert!(!taken.iter().any(|l| l.contains("not kept")));
         assert!(take().iter().all(|l| !l.contains("DRI2")));
+    }
+
+    #[test]
+    fn gl_api_errors_are_counted_by_message() {
+        let records = [
+            "ERROR wgpu_hal::gles: GLES: [API/Error] ID 12 : GL_INVALID_OPERATION in glDrawArraysIndirect",
+            "ERROR wgpu_hal::gles: GLES: [ShaderCompiler/Error] ID 1 : 0:250(2): error: initializer of type int",
+            "ERROR wgpu_hal::gles: GLES: [API/Error] ID 12 : GL_INVALID_OPERATION in glDrawArraysIndirect",
+            "ERROR wgpu_hal::gles: GLES: [API/Error] ID 3 : GL_INVALID_ENUM in glTexStorage2DMultisample",
+        ]
+        .map(String::from);
+        assert_eq!(
+            gl_api_errors(&records),
+            ["GL_INVALID_OPERATION in glDrawArraysIndirect (x2)", "GL_INVALID_ENUM in glTexStorage2DMultisample (x1)"]
+        );
     }
 }

@@ -19,6 +19,10 @@ pub struct Configuration {
     pub backend: String,
     /// A substring of the adapter name (`fragkit --adapter`).
     pub adapter: String,
+    /// A glob over the adapter's driver info (`fragkit --driver-info`): the context the
+    /// environment asks for (`OpenGL ES 3.0*`), so that a driver ignoring it fails the run.
+    #[serde(default)]
+    pub driver_info: Option<String>,
     /// Variables set in the configuration's process, read by the loaders and drivers.
     #[serde(default)]
     pub env: BTreeMap<String, String>,
@@ -101,8 +105,8 @@ mod tests {
     #[test]
     fn the_built_in_matrix_parses_and_selects() {
         let matrix = Matrix::built_in().unwrap();
-        assert_eq!(matrix.configurations.len(), 7);
-        assert_eq!(matrix.select("all").unwrap().len(), 7);
+        assert_eq!(matrix.configurations.len(), 10);
+        assert_eq!(matrix.select("all").unwrap().len(), 10);
         let chosen: Vec<&str> = matrix.select("zink, lavapipe").unwrap().iter().map(|c| c.name.as_str()).collect();
         assert_eq!(chosen, ["lavapipe", "zink"]);
         assert!(matrix.select("lavapipe,nope").is_err());

@@ -149,6 +149,10 @@ pub fn run_case(
             Err(e) => (None, Outcome::Fail(format!("reading the case's GPU time: {e:#}"))),
         },
     };
+    // Errors the GL driver raised during the case are part of its verdict: a draw GL refused
+    // fails the case by name, not only by the pixels it left.
+    let diagnostics = diagnostics::take();
+    let outcome = with_gl_errors(outcome, &diagnostics::gl_api_errors(&diagnostics));
     let listed = expectations.find(case.name, &gpu.description);
     let reasons = |issues: &[&KnownIssue]| issues.iter().map(|i| i.reason.as_str()).collect::<Vec<_>>().join(" | ");
     let (outcome, reason) = match outcome {
@@ -197,13 +201,43 @@ pub fn run_case(
         wall_ms: started.elapsed().as_secs_f64() * 1e3,
         evidence: ctx.evidence,
         attempts: 1,
-        diagnostics: diagnostics::take(),
+        diagnostics,
+    }
+}
+
+/// The outcome once the GL errors the case raised are counted: a pass or a failure becomes a
+/// failure that names them (one more problem, joined by "; "); not_supported stays, since its
+/// probe's refused attempt may raise them.
+fn with_gl_errors(outcome: Outcome, errors: &[String]) -> Outcome {
+    if errors.is_empty() {
+        return outcome;
+    }
+    let raised = format!("the driver raised GL errors: {}", errors.join(", "));
+    match outcome {
+        Outcome::Pass => Outcome::Fail(raised),
+        Outcome::Fail(why) => Outcome::Fail(format!("{why}; {raised}")),
+        not_supported @ Outcome::NotSupported(_) => not_supported,
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn gl_errors_fail_a_passing_or_failing_case_by_name() {
+        let errors = ["GL_INVALID_OPERATION in glDrawArraysIndirect (x2)".to_owned()];
+        let raised = "the driver raised GL errors: GL_INVALID_OPERATION in glDrawArraysIndirect (x2)";
+        assert_eq!(with_gl_errors(Outcome::Pass, &errors), Outcome::Fail(raised.into()));
+        assert_eq!(
+            with_gl_errors(Outcome::Fail("6144 pixels differ".into()), &errors),
+            Outcome::Fail(format!("6144 pixels differ; {raised}"))
+        );
+        // A refused attempt (the probe of a missing capability) may raise them.
+        let missing = Outcome::NotSupported("INDIRECT_EXECUTION".into());
+        assert_eq!(with_gl_errors(missing.clone(), &errors), missing);
+        assert_eq!(with_gl_errors(Outcome::Pass, &[]), Outcome::Pass);
+    }
 
     #[test]
     fn opt_in_cases_run_only_when_a_pattern_with_their_prefix_names_them() {

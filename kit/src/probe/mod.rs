@@ -4,10 +4,12 @@
 pub mod alpha_to_coverage;
 pub mod fragment_storage;
 pub mod hash_values;
+pub mod indirect_draw;
 pub mod mip_fetch;
 pub mod multisample_render;
 pub mod occlusion;
 pub mod sample_mask;
 pub mod sample_positions;
+pub mod sample_projections;
 pub mod stencil_gated_draw;
 pub mod subpixel_precision;

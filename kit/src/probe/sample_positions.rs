@@ -81,13 +81,13 @@ pub fn standard_positions(samples: u32) -> Option<&'static [[f32; 2]]> {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Axis {
+pub(crate) enum Axis {
     X,
     Y,
 }
 
 impl Axis {
-    fn strip(self) -> (u32, u32) {
+    pub(crate) fn strip(self) -> (u32, u32) {
         match self {
             Axis::X => (STEPS, 1),
             Axis::Y => (1, STEPS),
@@ -95,7 +95,7 @@ impl Axis {
     }
 
     /// Rect i covers pixel i from an edge i/256 into it to the pixel's far side.
-    fn sweep_rects(self) -> Vec<(Rect, [f32; 4])> {
+    pub(crate) fn sweep_rects(self) -> Vec<(Rect, [f32; 4])> {
         (0..STEPS)
             .map(|i| {
                 let edge = i as f32 + i as f32 / STEPS as f32;
@@ -417,6 +417,12 @@ pub struct PositionsMeasurement {
 }
 
 impl PositionsMeasurement {
+    /// True when some route read single samples here; false when none could run or every one
+    /// that ran failed (the kit cannot see single samples on this adapter).
+    pub fn read_single_samples(&self) -> bool {
+        self.routes.iter().any(|(_, r)| r.is_ok())
+    }
+
     /// The positions all successful routes agree on; None when none succeeded or they disagree.
     pub fn agreed(&self) -> Option<&Vec<SamplePosition>> {
         let mut results = self.routes.iter().filter_map(|(_, r)| r.as_ref().ok());
@@ -450,7 +456,13 @@ pub fn measure(gpu: &Gpu, samples: u32) -> Result<PositionsMeasurement> {
         skipped.push((Route::Occlusion, why.into()));
     }
     if fragment_storage {
-        routes.push((Route::Storage, text(measure_by_storage(gpu, samples))));
+        // The route also needs per-sample shading, which GLES 3.1 lacks: a refused shader means
+        // the route cannot run here, not that it measured wrong.
+        let measured = text(measure_by_storage(gpu, samples));
+        match measured.as_ref().err().and_then(|error| crate::harness::capability::missing_capability(error)) {
+            Some(missing) => skipped.push((Route::Storage, format!("per-sample shading: {missing}"))),
+            None => routes.push((Route::Storage, measured)),
+        }
     } else {
         skipped.push((Route::Storage, "fragment shaders cannot write storage".into()));
     }
