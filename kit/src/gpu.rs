@@ -245,6 +245,19 @@ impl Gpu {
         self.device.features().contains(features)
     }
 
+    /// A device-wide probe's finding (None: no problem), measured on first use and kept in `cell`.
+    pub(crate) fn probed_once(
+        &self,
+        cell: &std::sync::OnceLock<Option<String>>,
+        measure: impl FnOnce(&Self) -> Result<Option<String>>,
+    ) -> Result<Option<String>> {
+        if let Some(known) = cell.get() {
+            return Ok(known.clone());
+        }
+        let problem = measure(self)?;
+        Ok(cell.get_or_init(|| problem).clone())
+    }
+
     /// Waits for all submitted work.
     pub fn wait(&self) -> Result<()> {
         self.device

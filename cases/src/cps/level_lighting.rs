@@ -90,6 +90,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 if draws != expected_draws {
                     problems.push(format!("{key}: level draw arguments {draws:?}, expected {expected_draws:?}"));
                 }
+            } else {
+                ctx.metric(&format!("{key}.level_draws"), "direct (no counted indirect draws here: kit.draw.indirect)");
             }
         }
     }

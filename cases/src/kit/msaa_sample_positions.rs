@@ -9,8 +9,9 @@ use fragkit::harness::capability::missing_capability;
 use fragkit::harness::{Case, Ctx, Outcome};
 use fragkit::probe::multisample_render::render_problem;
 use fragkit::probe::sample_positions::{
-    STEPS, SamplePosition, measure, measure_per_sample_shading, standard_positions,
+    Route, STEPS, SamplePosition, measure, measure_per_sample_shading, standard_positions,
 };
+use fragkit::probe::sample_projections::measure_projections;
 use fragkit::probe::subpixel_precision::COARSEST_SNAP;
 
 macro_rules! sample_positions_case {
@@ -55,6 +56,28 @@ fn position_builtin_meaning(reported: [f32; 2], sample: &SamplePosition, standar
     }
 }
 
+/// Where no route reads single samples (GLES: no sample mask, no fragment storage or per-sample
+/// shading), what an unmasked sweep still shows: how many samples the target renders and each
+/// axis's sorted coordinates, against the standard table's. Which sample sits where stays
+/// unmeasured, and the metrics say so.
+fn projections_only(ctx: &mut Ctx, samples: u32, skipped: &[(Route, String)]) -> Result<Outcome> {
+    let why: Vec<String> = skipped.iter().map(|(route, why)| format!("{route:?}: {why}")).collect();
+    ctx.metric("positions_from", format!("projections only: no route reads single samples ({})", why.join("; ")));
+    let projections = measure_projections(ctx.gpu, samples)?;
+    ctx.metric("projections", &projections);
+    Ok(match () {
+        _ if projections.rendered_samples != samples => Outcome::Fail(format!(
+            "{samples}x: an unmasked edge sweep shows the target renders {} samples",
+            projections.rendered_samples
+        )),
+        _ if !projections.matches_standard(samples) => Outcome::Fail(format!(
+            "{samples}x: each axis's sample coordinates (x {:?}, y {:?}) differ from the standard table's by more than 4-bit snapping allows",
+            projections.x, projections.y
+        )),
+        _ => Outcome::Pass,
+    })
+}
+
 fn sample_positions(ctx: &mut Ctx, samples: u32) -> Result<Outcome> {
     // Requirements: the adapter must claim the count for colour and depth formats alike.
     let advertised = common_sample_counts(ctx.gpu);
@@ -88,8 +111,7 @@ fn sample_positions(ctx: &mut Ctx, samples: u32) -> Result<Outcome> {
     }
     let Some(positions) = measurement.agreed().cloned() else {
         if measurement.routes.is_empty() {
-            let why: Vec<String> = measurement.skipped.iter().map(|(route, why)| format!("{route:?}: {why}")).collect();
-            return Ok(Outcome::NotSupported(format!("a way to read single samples ({})", why.join("; "))));
+            return projections_only(ctx, samples, &measurement.skipped);
         }
         if measurement.routes.iter().filter(|(_, r)| r.is_ok()).count() > 1 {
             problems.push("the routes disagree on the positions".into());

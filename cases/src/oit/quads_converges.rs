@@ -7,7 +7,7 @@
 //! pattern per count correlates the layers' samples (lavapipe does not dither); their slopes and
 //! floors are reported.
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::oit::filter::{PostFilter, read_rgb};
 use fragkit::oit::reference::{exact_image, rmse};
@@ -16,7 +16,8 @@ use fragkit::oit::stochastic::{
     COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, Stochastic, available_variants, render_stochastic,
     sample_mask_output,
 };
-use fragkit::probe::sample_positions::measure;
+use fragkit::probe::sample_positions::{measure, standard_positions};
+use fragkit::probe::sample_projections::measure_projections;
 use fragkit::query::GpuTimer;
 
 use super::multisample_counts;
@@ -50,12 +51,23 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         Ok(counts) => *counts.last().expect("a non-empty list"),
         Err(outcome) => return Ok(outcome),
     };
-    // Expected: the exact composite at the positions this adapter samples.
-    let Some(positions) =
-        measure(ctx.gpu, samples)?.agreed().map(|p| p.iter().filter_map(|s| s.mid()).collect::<Vec<_>>())
-    else {
+    // Expected: the exact composite at the positions this adapter samples: measured where a
+    // route reads single samples; where none can (GLES), the standard table once the unmasked
+    // sweep has confirmed each axis's coordinates (which sample sits where is then the table's).
+    let measured = measure(ctx.gpu, samples)?;
+    let positions: Vec<[f32; 2]> = if measured.read_single_samples() {
+        let Some(agreed) = measured.agreed() else {
+            return Ok(Outcome::NotSupported(format!(
+                "measured {samples}x sample positions: the routes disagree (see kit.msaa.sample_positions)"
+            )));
+        };
+        agreed.iter().filter_map(|s| s.mid()).collect()
+    } else if measure_projections(ctx.gpu, samples)?.matches_standard(samples) {
+        ctx.metric("positions", "the standard table, each axis confirmed by an unmasked sweep");
+        standard_positions(samples).context("no standard table for this count")?.to_vec()
+    } else {
         return Ok(Outcome::NotSupported(format!(
-            "measured {samples}x sample positions: the exact composite is computed at the positions this adapter samples, and no route reads single samples here (see kit.msaa.sample_positions)"
+            "{samples}x sample positions: no route reads single samples here, and the unmasked sweep's coordinates are not the standard table's"
         )));
     };
     let scene = QuadScene::paper();

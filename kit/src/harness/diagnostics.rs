@@ -47,13 +47,18 @@ pub fn take() -> Vec<String> {
     std::mem::take(&mut *CAPTURED.lock().unwrap_or_else(|e| e.into_inner()))
 }
 
-/// The GL API errors among `records` (wgpu-hal's relay of GL debug output: "GLES: [API/Error]
-/// ID n : message"), each distinct message once with its count, in order of first appearance.
-/// Shader compiler messages are left out: wgpu reports the pipeline they break as an error.
+/// How wgpu-hal relays a GL API error from the driver's debug output ("GLES: [API/Error] ID n :
+/// message"), and how a record reads once a probe has claimed it.
+const API_ERROR: &str = "[API/Error]";
+const PROBED_API_ERROR: &str = "[API/Error, met by a probe]";
+
+/// The GL API errors among `records` that no probe claimed, each distinct message once with its
+/// count, in order of first appearance. Shader compiler messages are left out: wgpu reports the
+/// pipeline they break as an error.
 pub fn gl_api_errors(records: &[String]) -> Vec<String> {
     let mut counted: Vec<(String, usize)> = Vec::new();
     for record in records {
-        let Some((_, message)) = record.split_once("[API/Error]") else {
+        let Some((_, message)) = record.split_once(API_ERROR) else {
             continue;
         };
         let message = message.split_once(" : ").map_or(message, |(_, text)| text).trim().to_owned();
@@ -65,12 +70,39 @@ pub fn gl_api_errors(records: &[String]) -> Vec<String> {
     counted.into_iter().map(|(message, count)| format!("{message} (x{count})")).collect()
 }
 
+/// Runs a probe: a refused attempt is how a probe finds a capability missing or broken, so the
+/// GL API errors raised while it runs are its evidence, returned with its result and no longer
+/// counted against the case (`gl_api_errors`); the records stay in the diagnostics, marked.
+pub fn probing<T>(probe: impl FnOnce() -> T) -> (T, Vec<String>) {
+    let start = CAPTURED.lock().unwrap_or_else(|e| e.into_inner()).len();
+    let result = probe();
+    let mut captured = CAPTURED.lock().unwrap_or_else(|e| e.into_inner());
+    let start = start.min(captured.len());
+    let raised = gl_api_errors(&captured[start..]);
+    for record in captured[start..].iter_mut().filter(|r| r.contains(API_ERROR)) {
+        *record = record.replacen(API_ERROR, PROBED_API_ERROR, 1);
+    }
+    (result, raised)
+}
+
+/// A probe's finding with the GL errors it met appended, as evidence.
+pub fn with_raised(problem: String, raised: &[String]) -> String {
+    match raised.is_empty() {
+        true => problem,
+        false => format!("{problem} (GL errors: {})", raised.join(", ")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// The records are one process-wide list: tests that take them run one at a time.
+    static SERIAL: Mutex<()> = Mutex::new(());
+
     #[test]
     fn records_are_kept_until_taken() {
+        let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
         // The test binary has no other logger; a second install fails cleanly.
         let _ = capture(false);
         log::warn!(target: "wgpu_hal::gles::egl", "DRI2: failed to load driver");
@@ -79,6 +111,19 @@ mod tests {
         assert!(taken.iter().any(|l| l == "WARN wgpu_hal::gles::egl: DRI2: failed to load driver"), "{taken:?}");
         assert!(!taken.iter().any(|l| l.contains("not kept")));
         assert!(take().iter().all(|l| !l.contains("DRI2")));
+    }
+
+    #[test]
+    fn a_probe_claims_the_gl_errors_it_met() {
+        let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+        let _ = capture(false);
+        let record = |id: u32| log::error!(target: "wgpu_hal::gles", "GLES: [API/Error] ID {id} : GL_INVALID_OPERATION in glDrawArraysIndirect");
+        record(1);
+        let ((), raised) = probing(|| record(2));
+        assert_eq!(raised, ["GL_INVALID_OPERATION in glDrawArraysIndirect (x1)"]);
+        let taken = take();
+        assert_eq!(gl_api_errors(&taken), ["GL_INVALID_OPERATION in glDrawArraysIndirect (x1)"], "{taken:?}");
+        assert!(taken.iter().any(|r| r.contains(PROBED_API_ERROR)));
     }
 
     #[test]

@@ -15,11 +15,10 @@ use crate::shaders;
 /// None when a fragment shader's storage writes land; else what the probe saw, in a sentence.
 /// Measured once per device.
 pub fn fragment_storage_problem(gpu: &Gpu) -> Result<Option<String>> {
-    if let Some(known) = gpu.fragment_storage.get() {
-        return Ok(known.clone());
-    }
-    let problem = measure(gpu)?;
-    Ok(gpu.fragment_storage.get_or_init(|| problem).clone())
+    gpu.probed_once(&gpu.fragment_storage, |gpu| {
+        let (problem, raised) = crate::harness::diagnostics::probing(|| measure(gpu));
+        Ok(problem?.map(|problem| crate::harness::diagnostics::with_raised(problem, &raised)))
+    })
 }
 
 fn measure(gpu: &Gpu) -> Result<Option<String>> {

@@ -13,6 +13,7 @@ use wgpu::util::DeviceExt;
 use crate::attachments::colour;
 use crate::fullscreen::FullscreenPipeline;
 use crate::gpu::Gpu;
+use crate::harness::diagnostics::{probing, with_raised};
 use crate::readback::read_rgba8;
 use crate::rects::{Rect, RectBatch, RectFragment, RectPipeline};
 use crate::shaders;
@@ -23,11 +24,10 @@ const DRAWN: [u8; 4] = [0, 255, 0, 255];
 /// None when indirect draws render here, also after a freed vertex buffer; else what the probe
 /// saw, in a sentence. Measured once per device.
 pub fn indirect_draw_problem(gpu: &Gpu) -> Result<Option<String>> {
-    if let Some(known) = gpu.indirect_draw.get() {
-        return Ok(known.clone());
-    }
-    let problem = measure(gpu)?;
-    Ok(gpu.indirect_draw.get_or_init(|| problem).clone())
+    gpu.probed_once(&gpu.indirect_draw, |gpu| {
+        let (problem, raised) = probing(|| measure(gpu));
+        Ok(problem?.map(|problem| with_raised(problem, &raised)))
+    })
 }
 
 fn measure(gpu: &Gpu) -> Result<Option<String>> {

@@ -8,6 +8,7 @@ use anyhow::Result;
 
 use crate::attachments::colour;
 use crate::gpu::Gpu;
+use crate::harness::diagnostics::{probing, with_raised};
 use crate::readback::read_rgba8;
 use crate::rects::{Rect, RectBatch, RectFragment, RectPipeline};
 
@@ -47,13 +48,17 @@ pub fn resolved_fill(gpu: &Gpu, samples: u32, size: (u32, u32), sample_mask: u32
 /// None when an N-sample target renders; else what the probe saw, in a sentence.
 pub fn render_problem(gpu: &Gpu, samples: u32) -> Result<Option<String>> {
     let all_samples = (1u32 << samples) - 1;
-    let image = gpu.scoped(&format!("{samples}x render probe"), || resolved_fill(gpu, samples, SIZE, all_samples))?;
-    let white = image.pixels().filter(|p| p.0 == [255; 4]).count();
+    let (image, raised) =
+        probing(|| gpu.scoped(&format!("{samples}x render probe"), || resolved_fill(gpu, samples, SIZE, all_samples)));
+    let white = image?.pixels().filter(|p| p.0 == [255; 4]).count();
     let total = (SIZE.0 * SIZE.1) as usize;
     Ok((white < total).then(|| {
-        format!(
-            "{samples}x is advertised but a {samples}x target does not render: a white draw over it resolved \
-             white in {white} of {total} pixels"
+        with_raised(
+            format!(
+                "{samples}x is advertised but a {samples}x target does not render: a white draw over it resolved \
+                 white in {white} of {total} pixels"
+            ),
+            &raised,
         )
     }))
 }

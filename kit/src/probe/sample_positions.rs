@@ -435,6 +435,11 @@ impl PositionsMeasurement {
 /// the mask is honoured, occlusion only where counts are exact, storage only where fragment
 /// shaders may write storage.
 pub fn measure(gpu: &Gpu, samples: u32) -> Result<PositionsMeasurement> {
+    // The routes' results say what each found; the GL errors of a refused target are theirs.
+    crate::harness::diagnostics::probing(|| measure_routes(gpu, samples)).0
+}
+
+fn measure_routes(gpu: &Gpu, samples: u32) -> Result<PositionsMeasurement> {
     use crate::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
     use crate::probe::sample_mask::measure_sample_mask;
     let sample_mask_honoured = samples == 1 || measure_sample_mask(gpu, samples)?.iter().all(|m| m.honoured());

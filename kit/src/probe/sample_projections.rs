@@ -124,6 +124,11 @@ fn sweep_axis(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<Interval>> {
 
 /// Sweeps an N-sample target along both axes with every sample enabled.
 pub fn measure_projections(gpu: &Gpu, samples: u32) -> Result<SampleProjections> {
+    // A target GL refuses shows in what the probe measures; its GL errors are the probe's.
+    crate::harness::diagnostics::probing(|| sweep_both_axes(gpu, samples)).0
+}
+
+fn sweep_both_axes(gpu: &Gpu, samples: u32) -> Result<SampleProjections> {
     gpu.scoped(&format!("{samples}x sample projections (unmasked resolve)"), || {
         let x = sweep_axis(gpu, samples, Axis::X)?;
         let y = sweep_axis(gpu, samples, Axis::Y)?;
