@@ -959,6 +959,10 @@ fn gles_keeps_the_techniques_and_names_the_gl_error() {
     }
     let indirect = &run("3.1", &["kit.draw.indirect"])[0];
     assert_eq!(indirect["outcome"], "known_issue", "{}", indirect["reason"]);
-    assert!(indirect["reason"].as_str().unwrap().contains("GL_INVALID_OPERATION in glDrawArraysIndirect"), "{}", indirect["reason"]);
+    assert!(
+        indirect["reason"].as_str().unwrap().contains("GL_INVALID_OPERATION in glDrawArraysIndirect"),
+        "{}",
+        indirect["reason"]
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
