@@ -1,6 +1,7 @@
-//! `cps.level_lighting`: every texel a level shades holds the CPU Phong (`fragkit::deferred::phong`)
-//! of the G-buffer sample at the centre pixel of its 2^l block (clamped to the screen), under the
-//! scene's own lights, within the derived f32/f16 bound; and, where the plan skips absent levels
+//! `cps.level_lighting`: every level shades exactly as many texels as the LOD input needs, and
+//! every texel a level shades holds the CPU Phong (`fragkit::deferred::phong`) of the G-buffer
+//! sample at the centre pixel of its 2^l block (clamped to the screen), under the scene's own
+//! lights, within the derived f32/f16 bound; and, where the plan skips absent levels
 //! on the GPU, each level's indirect draw has zero instances exactly where the LOD input holds no
 //! pixel of that level (elsewhere every level is drawn directly, once). The LOD is a seeded input
 //! (random per pixel, and one with whole levels absent), so the expectation owes nothing to the
@@ -53,11 +54,21 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             let top = renderer.plan.top_level;
             let key = format!("{}x{}.{name}", size.0, size.1);
 
-            // Each shaded texel against the Phong of its block's centre pixel.
+            // Each shaded texel against the Phong of its block's centre pixel; and, per level, as
+            // many shaded texels as the LOD input needs (a fresh renderer's atlas holds no older
+            // shading), so that a frame whose draws shaded nothing cannot pass on no evidence.
+            let needed = expected_shaded_texels(size, &lod, top);
             let (mut checked, mut wrong, mut worst) = (0usize, 0usize, 0.0f64);
             for level in 0..=top {
                 let (w, _) = renderer.plan.level_extents[level as usize];
                 let lit = renderer.read_lit_level(ctx.gpu, level)?;
+                let shaded = lit.chunks_exact(4).filter(|t| t[3] == 1.0).count() as u64;
+                if shaded != needed[level as usize] {
+                    problems.push(format!(
+                        "{key}: level {level} shaded {shaded} texels, the LOD input needs {}",
+                        needed[level as usize]
+                    ));
+                }
                 let block = 1u32 << level;
                 for (i, texel) in lit.chunks_exact(4).enumerate().filter(|(_, t)| t[3] == 1.0) {
                     let (qx, qy) = (i as u32 % w, i as u32 / w);
@@ -81,10 +92,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             // zero instances exactly for the levels the input leaves absent. Elsewhere each level
             // is drawn directly, once.
             if let Some(draws) = renderer.read_level_draws(ctx.gpu)? {
-                let expected_draws: Vec<[u32; 4]> = expected_shaded_texels(size, &lod, top)
-                    .iter()
-                    .map(|&texels| [3, u32::from(texels > 0), 0, 0])
-                    .collect();
+                let expected_draws: Vec<[u32; 4]> =
+                    needed.iter().map(|&texels| [3, u32::from(texels > 0), 0, 0]).collect();
                 let instances: Vec<u32> = draws.iter().map(|d| d[1]).collect();
                 ctx.metric(&format!("{key}.instances"), serde_json::json!({"measured": instances, "expected": expected_draws.iter().map(|d| d[1]).collect::<Vec<_>>(), "skips_absent_levels": true}));
                 if draws != expected_draws {
