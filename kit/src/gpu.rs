@@ -245,7 +245,8 @@ impl Gpu {
         self.device.features().contains(features)
     }
 
-    /// A device-wide probe's finding (None: no problem), measured on first use and kept in `cell`.
+    /// A device-wide probe's finding (None: no problem), measured on first use and kept in
+    /// `cell`, with the GL errors the probe met appended as its evidence.
     pub(crate) fn probed_once(
         &self,
         cell: &std::sync::OnceLock<Option<String>>,
@@ -254,7 +255,8 @@ impl Gpu {
         if let Some(known) = cell.get() {
             return Ok(known.clone());
         }
-        let problem = measure(self)?;
+        let (problem, raised) = crate::harness::diagnostics::probing(|| measure(self));
+        let problem = problem?.map(|problem| crate::harness::diagnostics::with_raised(problem, &raised));
         Ok(cell.get_or_init(|| problem).clone())
     }
 

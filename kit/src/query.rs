@@ -78,9 +78,9 @@ impl OcclusionQueries {
 /// without timestamps, which passes were recorded.
 pub struct GpuTimer {
     queries: Option<ResolvedQueries>,
-    labels: Vec<String>,
     /// Every pass recorded since the last read, timed or not (an adapter without timestamps —
-    /// GLES, WebGL2 — still says which passes a frame recorded).
+    /// GLES, WebGL2 — still says which passes a frame recorded); the first ones, up to the
+    /// timer's capacity, are timed.
     recorded: Vec<String>,
     period_ns: f64,
     /// Passes that found the timer full (warned about once).
@@ -100,13 +100,7 @@ impl GpuTimer {
         let queries = gpu
             .has(wgpu::Features::TIMESTAMP_QUERY)
             .then(|| ResolvedQueries::new(&gpu.device, wgpu::QueryType::Timestamp, passes * 2, "pass timestamps"));
-        Self {
-            queries,
-            labels: Vec::new(),
-            recorded: Vec::new(),
-            period_ns: f64::from(gpu.queue.get_timestamp_period()),
-            untimed: 0,
-        }
+        Self { queries, recorded: Vec::new(), period_ns: f64::from(gpu.queue.get_timestamp_period()), untimed: 0 }
     }
 
     pub fn is_active(&self) -> bool {
@@ -116,9 +110,9 @@ impl GpuTimer {
     /// Timestamp writes for the next pass, or `None` when the adapter has no timestamps or
     /// the timer is full (that pass then goes untimed rather than failing).
     pub fn pass(&mut self, label: &str) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let index = self.recorded.len() as u32 * 2;
         self.recorded.push(label.to_owned());
         let queries = self.queries.as_ref()?;
-        let index = self.labels.len() as u32 * 2;
         if index + 2 > queries.count {
             if self.untimed == 0 {
                 log::warn!("GpuTimer full: pass {label:?} and later ones are not timed");
@@ -126,7 +120,6 @@ impl GpuTimer {
             self.untimed += 1;
             return None;
         }
-        self.labels.push(label.to_owned());
         Some(wgpu::RenderPassTimestampWrites {
             query_set: &queries.set,
             beginning_of_pass_write_index: Some(index),
@@ -134,9 +127,14 @@ impl GpuTimer {
         })
     }
 
+    /// How many of the recorded passes have timestamps.
+    fn timed(&self) -> u32 {
+        self.queries.as_ref().map_or(0, |queries| (self.recorded.len() as u32).min(queries.count / 2))
+    }
+
     pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
         if let Some(queries) = &self.queries {
-            queries.resolve(encoder, self.labels.len() as u32 * 2);
+            queries.resolve(encoder, self.timed() * 2);
         }
     }
 
@@ -148,14 +146,15 @@ impl GpuTimer {
     /// The passes' times once the encoder holding [`Self::resolve`] was submitted; empty
     /// without timestamps. Clears the timer for reuse.
     pub fn read(&mut self, gpu: &Gpu) -> Result<Vec<PassTime>> {
-        self.recorded.clear();
+        let timed = self.timed();
+        let recorded = std::mem::take(&mut self.recorded);
         let Some(queries) = &self.queries else {
             return Ok(Vec::new());
         };
-        let stamps = queries.read(gpu, self.labels.len() as u32 * 2).context("reading pass timestamps")?;
-        let times = self
-            .labels
-            .drain(..)
+        let stamps = queries.read(gpu, timed * 2).context("reading pass timestamps")?;
+        let times = recorded
+            .into_iter()
+            .take(timed as usize)
             .zip(stamps.chunks_exact(2))
             .map(|(label, pair)| PassTime { label, ms: pair[1].saturating_sub(pair[0]) as f64 * self.period_ns * 1e-6 })
             .collect();

@@ -18,10 +18,11 @@ use fragkit::probe::sample_projections::measure_projections;
 /// Multisample counts to test: those the adapter claims, above 1, where a target of that count
 /// really renders that many samples (llvmpipe's GL "2x" runs 4): at the standard positions where
 /// single samples can be read; where no route can (GLES 3.0: no sample mask, no fragment
-/// storage; GLES 3.2: naga's per-sample GLSL ES does not compile), by the resolve levels of an unmasked edge sweep — alpha-to-coverage needs N samples,
-/// not their positions. With none, the outcome to end the case with: `not_supported` with what
-/// the probes found, or `fail` where an advertised count does not render at all (the adapter's
-/// or wgpu's failure, not a missing capability).
+/// storage; GLES 3.2: naga's per-sample GLSL ES does not compile), by the resolve levels of an
+/// unmasked edge sweep — alpha-to-coverage needs N samples, not their positions. With none, the
+/// outcome to end the case with: `not_supported` with what the probes found, or `fail` where an
+/// advertised count does not render at all (the adapter's or wgpu's failure, not a missing
+/// capability).
 pub fn multisample_counts(gpu: &Gpu) -> anyhow::Result<Result<Vec<u32>, Outcome>> {
     let advertised: Vec<u32> = common_sample_counts(gpu).into_iter().filter(|&n| n > 1).collect();
     let renders = |n: u32| -> anyhow::Result<bool> {

@@ -39,12 +39,7 @@ pub struct AlphaToCoverage {
 /// Counts come from one resolve; per-sample masks only where `sample_mask_honoured` (each
 /// sample is then isolated by the pipeline mask).
 pub fn measure_alpha_to_coverage(gpu: &Gpu, samples: u32, sample_mask_honoured: bool) -> Result<AlphaToCoverage> {
-    // A target GL refuses shows in what the probe measures; its GL errors are the probe's.
-    crate::harness::diagnostics::probing(|| transfer(gpu, samples, sample_mask_honoured)).0
-}
-
-fn transfer(gpu: &Gpu, samples: u32, sample_mask_honoured: bool) -> Result<AlphaToCoverage> {
-    gpu.scoped(&format!("{samples}x alpha-to-coverage probe"), || {
+    super::scoped(gpu, &format!("{samples}x alpha-to-coverage probe"), || {
         let size = (ALPHA_STEPS + 1, ROWS);
         let format = wgpu::TextureFormat::Rgba8Unorm;
         let msaa = gpu.texture("a2c msaa", size, format, samples, wgpu::TextureUsages::RENDER_ATTACHMENT);

@@ -13,7 +13,6 @@ use wgpu::util::DeviceExt;
 use crate::attachments::colour;
 use crate::fullscreen::FullscreenPipeline;
 use crate::gpu::Gpu;
-use crate::harness::diagnostics::{probing, with_raised};
 use crate::readback::read_rgba8;
 use crate::rects::{Rect, RectBatch, RectFragment, RectPipeline};
 use crate::shaders;
@@ -24,10 +23,7 @@ const DRAWN: [u8; 4] = [0, 255, 0, 255];
 /// None when indirect draws render here, also after a freed vertex buffer; else what the probe
 /// saw, in a sentence. Measured once per device.
 pub fn indirect_draw_problem(gpu: &Gpu) -> Result<Option<String>> {
-    gpu.probed_once(&gpu.indirect_draw, |gpu| {
-        let (problem, raised) = probing(|| measure(gpu));
-        Ok(problem?.map(|problem| with_raised(problem, &raised)))
-    })
+    gpu.probed_once(&gpu.indirect_draw, measure)
 }
 
 fn measure(gpu: &Gpu) -> Result<Option<String>> {
@@ -52,19 +48,26 @@ fn measure(gpu: &Gpu) -> Result<Option<String>> {
         contents: bytemuck::cast_slice(&[3u32, 1, 0, 0]),
         usage: wgpu::BufferUsages::INDIRECT,
     });
+    // One pass into the probe's target, submitted.
+    let render = |label: &str, draw: &dyn Fn(&mut wgpu::RenderPass<'_>)| {
+        let mut encoder = gpu.encoder(label);
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(label),
+                color_attachments: &[colour(&view, None, wgpu::Color::TRANSPARENT)],
+                ..Default::default()
+            });
+            draw(&mut pass);
+        }
+        gpu.submit(encoder);
+    };
+    // The pixels an indirect full-target draw left undrawn.
     let draw_indirect = || -> Result<u32> {
         gpu.scoped("indirect draw probe", || {
-            let mut encoder = gpu.encoder("indirect draw probe");
-            {
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("indirect draw probe"),
-                    color_attachments: &[colour(&view, None, wgpu::Color::TRANSPARENT)],
-                    ..Default::default()
-                });
+            render("indirect draw probe", &|pass| {
                 pass.set_pipeline(&pipeline);
                 pass.draw_indirect(&arguments, 0);
-            }
-            gpu.submit(encoder);
+            });
             Ok(read_rgba8(gpu, &target)?.pixels().filter(|p| p.0 != DRAWN).count() as u32)
         })
     };
@@ -75,7 +78,7 @@ fn measure(gpu: &Gpu) -> Result<Option<String>> {
             "indirect draws: a full-target indirect draw left {missed} of {pixels} pixels undrawn"
         )));
     }
-    // A draw through a vertex buffer, which is then freed.
+    // A draw through a vertex buffer, which is then freed (the wait lets wgpu destroy it).
     {
         let batch = RectBatch::new(gpu, SIZE, &[(Rect::full(SIZE.0, SIZE.1), [1.0; 4])]);
         let rects = RectPipeline {
@@ -84,18 +87,10 @@ fn measure(gpu: &Gpu) -> Result<Option<String>> {
             ..RectPipeline::new("indirect draw probe, vertex buffer")
         }
         .create(gpu);
-        let mut encoder = gpu.encoder("indirect draw probe, vertex buffer");
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("indirect draw probe, vertex buffer"),
-                color_attachments: &[colour(&view, None, wgpu::Color::TRANSPARENT)],
-                ..Default::default()
-            });
+        render("indirect draw probe, vertex buffer", &|pass| {
             pass.set_pipeline(&rects);
-            batch.draw(&mut pass, ..);
-        }
-        gpu.submit(encoder);
-        gpu.wait()?;
+            batch.draw(pass, ..);
+        });
     }
     gpu.wait()?;
     let missed = draw_indirect()?;

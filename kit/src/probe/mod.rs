@@ -13,3 +13,14 @@ pub mod sample_positions;
 pub mod sample_projections;
 pub mod stencil_gated_draw;
 pub mod subpixel_precision;
+
+use anyhow::Result;
+
+use crate::gpu::Gpu;
+
+/// A probe's GPU work: wgpu's errors fail it (`Gpu::scoped`), and the GL errors it meets — a
+/// target GL refuses shows in what the probe measures — are its own evidence
+/// (`diagnostics::probing`), not charged to the case that asked.
+pub(crate) fn scoped<T>(gpu: &Gpu, what: &str, body: impl FnOnce() -> Result<T>) -> Result<T> {
+    crate::harness::diagnostics::probing(|| gpu.scoped(what, body)).0
+}

@@ -25,12 +25,7 @@ impl MaskResult {
 
 /// Every mask with zero or one sample set, and the full mask.
 pub fn measure_sample_mask(gpu: &Gpu, samples: u32) -> Result<Vec<MaskResult>> {
-    // A target GL refuses shows in what the probe measures; its GL errors are the probe's.
-    crate::harness::diagnostics::probing(|| mask_results(gpu, samples)).0
-}
-
-fn mask_results(gpu: &Gpu, samples: u32) -> Result<Vec<MaskResult>> {
-    gpu.scoped(&format!("{samples}x sample mask probe"), || {
+    super::scoped(gpu, &format!("{samples}x sample mask probe"), || {
         let masks = std::iter::once(0).chain((0..samples).map(|s| 1 << s)).chain(std::iter::once((1 << samples) - 1));
         masks
             .map(|mask: u32| {

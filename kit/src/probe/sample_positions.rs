@@ -120,8 +120,9 @@ fn covered_prefix(covered: &[bool], what: &str) -> Result<u32> {
     Ok(count as u32)
 }
 
-/// Per-sample covered counts along one axis, through per-sample resolves.
-fn covered_counts_by_resolve(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<u32>> {
+/// An edge sweep along `axis` drawn into a `samples`-sample target with pipeline mask
+/// `sample_mask`, resolved: each strip pixel's red channel, the share of its samples covered.
+pub(crate) fn resolved_sweep(gpu: &Gpu, samples: u32, axis: Axis, sample_mask: u64) -> Result<Vec<u8>> {
     let size = axis.strip();
     let format = wgpu::TextureFormat::Rgba8Unorm;
     // RENDER_ATTACHMENT only: on GL a multisampled texture that is also TEXTURE_BINDING gets no storage.
@@ -135,36 +136,40 @@ fn covered_counts_by_resolve(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<
     );
     let (msaa_view, resolved_view) = (msaa.create_view(&Default::default()), resolved.create_view(&Default::default()));
     let rects = RectBatch::new(gpu, size, &axis.sweep_rects());
-    let mut counts = Vec::new();
-    for sample in 0..samples {
-        let pipeline = RectPipeline {
-            colour_format: Some(format),
-            fragment: RectFragment::InstanceColour,
-            samples,
-            sample_mask: 1 << sample,
-            ..RectPipeline::new("sweep, one sample")
-        }
-        .create(gpu);
-        let mut encoder = gpu.encoder("sample sweep");
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("sample sweep"),
-                color_attachments: &[colour(
-                    if samples > 1 { &msaa_view } else { &resolved_view },
-                    (samples > 1).then_some(&resolved_view),
-                    wgpu::Color::TRANSPARENT,
-                )],
-                ..Default::default()
-            });
-            pass.set_pipeline(&pipeline);
-            rects.draw(&mut pass, ..);
-        }
-        gpu.submit(encoder);
-        let image = read_rgba8(gpu, &resolved)?;
-        let covered: Vec<bool> = image.pixels().map(|p| p[0] > 0).collect();
-        counts.push(covered_prefix(&covered, &format!("{samples}x sample {sample} along {axis:?}"))?);
+    let pipeline = RectPipeline {
+        colour_format: Some(format),
+        fragment: RectFragment::InstanceColour,
+        samples,
+        sample_mask,
+        ..RectPipeline::new("sample sweep")
     }
-    Ok(counts)
+    .create(gpu);
+    let mut encoder = gpu.encoder("sample sweep");
+    {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("sample sweep"),
+            color_attachments: &[colour(
+                if samples > 1 { &msaa_view } else { &resolved_view },
+                (samples > 1).then_some(&resolved_view),
+                wgpu::Color::TRANSPARENT,
+            )],
+            ..Default::default()
+        });
+        pass.set_pipeline(&pipeline);
+        rects.draw(&mut pass, ..);
+    }
+    gpu.submit(encoder);
+    Ok(read_rgba8(gpu, &resolved)?.pixels().map(|p| p[0]).collect())
+}
+
+/// Per-sample covered counts along one axis, through per-sample resolves.
+fn covered_counts_by_resolve(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<u32>> {
+    (0..samples)
+        .map(|sample| {
+            let covered: Vec<bool> = resolved_sweep(gpu, samples, axis, 1 << sample)?.iter().map(|&v| v > 0).collect();
+            covered_prefix(&covered, &format!("{samples}x sample {sample} along {axis:?}"))
+        })
+        .collect()
 }
 
 /// Per-sample covered counts along one axis, through a stencil pass and masked occlusion queries.

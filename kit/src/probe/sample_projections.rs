@@ -10,12 +10,9 @@
 use anyhow::{Result, bail};
 use serde::Serialize;
 
-use super::sample_positions::{Axis, Interval, STEPS, standard_positions};
+use super::sample_positions::{Axis, Interval, STEPS, resolved_sweep, standard_positions};
 use super::subpixel_precision::COARSEST_SNAP;
-use crate::attachments::colour;
 use crate::gpu::Gpu;
-use crate::readback::read_rgba8;
-use crate::rects::{RectBatch, RectFragment, RectPipeline};
 
 /// What one unmasked sweep per axis showed of an N-sample target.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -59,35 +56,9 @@ fn covered_levels(values: &[u8], levels: u32) -> Option<Vec<u32>> {
         .collect()
 }
 
-/// Sorted sample coordinates along one axis and the number of distinct ones.
+/// Each sample's coordinate along one axis, in increasing order, from an unmasked sweep.
 fn sweep_axis(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<Interval>> {
-    let size = axis.strip();
-    let format = wgpu::TextureFormat::Rgba8Unorm;
-    // RENDER_ATTACHMENT only: on GL a multisampled texture that is also TEXTURE_BINDING gets no storage.
-    let msaa = gpu.texture("projection sweep msaa", size, format, samples, wgpu::TextureUsages::RENDER_ATTACHMENT);
-    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-    let resolved = gpu.texture("projection sweep resolved", size, format, 1, usage);
-    let (msaa_view, resolved_view) = (msaa.create_view(&Default::default()), resolved.create_view(&Default::default()));
-    let rects = RectBatch::new(gpu, size, &axis.sweep_rects());
-    let pipeline = RectPipeline {
-        colour_format: Some(format),
-        fragment: RectFragment::InstanceColour,
-        samples,
-        ..RectPipeline::new("projection sweep")
-    }
-    .create(gpu);
-    let mut encoder = gpu.encoder("projection sweep");
-    {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("projection sweep"),
-            color_attachments: &[colour(&msaa_view, Some(&resolved_view), wgpu::Color::TRANSPARENT)],
-            ..Default::default()
-        });
-        pass.set_pipeline(&pipeline);
-        rects.draw(&mut pass, ..);
-    }
-    gpu.submit(encoder);
-    let values: Vec<u8> = read_rgba8(gpu, &resolved)?.pixels().map(|p| p[0]).collect();
+    let values = resolved_sweep(gpu, samples, axis, u64::MAX)?;
     // The first pixel's edge lies on its left (top) side: every sample is covered there.
     if values[0] < 254 {
         bail!("{samples}x sweep along {axis:?}: the fully covered pixel resolved {} of 255", values[0]);
@@ -124,12 +95,7 @@ fn sweep_axis(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<Interval>> {
 
 /// Sweeps an N-sample target along both axes with every sample enabled.
 pub fn measure_projections(gpu: &Gpu, samples: u32) -> Result<SampleProjections> {
-    // A target GL refuses shows in what the probe measures; its GL errors are the probe's.
-    crate::harness::diagnostics::probing(|| sweep_both_axes(gpu, samples)).0
-}
-
-fn sweep_both_axes(gpu: &Gpu, samples: u32) -> Result<SampleProjections> {
-    gpu.scoped(&format!("{samples}x sample projections (unmasked resolve)"), || {
+    super::scoped(gpu, &format!("{samples}x sample projections (unmasked resolve)"), || {
         let x = sweep_axis(gpu, samples, Axis::X)?;
         let y = sweep_axis(gpu, samples, Axis::Y)?;
         Ok(SampleProjections { rendered_samples: x.len().max(y.len()) as u32, x, y })
