@@ -11,6 +11,10 @@ pub mod oit;
 pub mod soak;
 pub mod texarray;
 
+/// The known issues of this kit's cases on the adapters it was run on (cases/expectations.toml),
+/// built in so that an installed `fragkit` needs no checkout.
+pub const EXPECTATIONS: &str = include_str!("../expectations.toml");
+
 /// Every case, in the order `fragkit check` runs them (opt-in ones only when named).
 pub const ALL: &[Case] = &[
     kit::subpixel_precision::CASE,

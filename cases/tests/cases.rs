@@ -4,7 +4,7 @@
 
 mod support;
 
-use fragkit::harness::report::{CaseRecord, is_timing_metric};
+use fragkit_report::report::{CaseRecord, is_timing_metric};
 
 fn check(name: &str) {
     let (record, slug) = support::run(name);

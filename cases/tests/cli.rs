@@ -437,7 +437,7 @@ fn a_killed_run_stays_incomplete_the_commit_is_the_builds_and_an_import_happens_
         .unwrap();
     assert_eq!(finished.status.code(), Some(0), "{}", String::from_utf8_lossy(&finished.stderr));
     let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    assert_eq!(report["run"]["git_commit"].as_str(), fragkit::harness::run_info::BUILD_COMMIT, "{report}");
+    assert_eq!(report["run"]["git_commit"].as_str(), fragkit_report::run_info::BUILD_COMMIT, "{report}");
     assert_eq!(report["run"]["kind"], "check", "{report}");
 
     // A second run, killed (parent and case child) while it hangs in its second case.
@@ -487,7 +487,7 @@ fn a_killed_run_stays_incomplete_the_commit_is_the_builds_and_an_import_happens_
     let (code, text) = fragkit(&["html", "--db", db_arg, "--run", "3", "--out", site.to_str().unwrap()]);
     assert_eq!(code, 0, "{text}");
     let index = std::fs::read_to_string(site.join("index.html")).unwrap();
-    let commit = fragkit::harness::run_info::BUILD_COMMIT.map_or("commit unknown", |c| &c[..c.len().min(10)]);
+    let commit = fragkit_report::run_info::BUILD_COMMIT.map_or("commit unknown", |c| &c[..c.len().min(10)]);
     assert!(index.contains("import · 20") && index.contains(commit), "the import keeps its commit: {index}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -5,12 +5,12 @@ use std::collections::BTreeMap;
 
 use fragkit::Gpu;
 use fragkit::gpu::all_adapters;
-use fragkit::harness::expectations::{BUILT_IN, Expectations};
 use fragkit::harness::runner::{is_opt_in, run_case};
+use fragkit_report::expectations::Expectations;
 
 #[test]
 fn every_case_on_every_adapter() {
-    let expectations = Expectations::parse(BUILT_IN, "cases/expectations.toml").unwrap();
+    let expectations = Expectations::parse(fragkit_cases::EXPECTATIONS, "cases/expectations.toml").unwrap();
     let adapters = all_adapters();
     assert!(!adapters.is_empty(), "no adapter: install mesa-vulkan-drivers");
     let mut failures = Vec::new();

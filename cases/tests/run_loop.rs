@@ -3,11 +3,12 @@
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
-use fragkit::harness::expectations::{BUILT_IN, Expectations};
-use fragkit::harness::report::{CaseRecord, Report, ReportedOutcome};
-use fragkit::harness::run::{CaseRun, RunOptions, Sink, run};
+use fragkit::harness::run::{CaseRun, RunOptions, run};
 use fragkit::harness::{Case, Outcome};
 use fragkit::{AdapterSelector, Gpu};
+use fragkit_report::expectations::Expectations;
+use fragkit_report::report::{CaseRecord, Report, ReportedOutcome};
+use fragkit_report::sink::Sink;
 
 static FLAKY_CALLS: AtomicU32 = AtomicU32::new(0);
 
@@ -57,9 +58,9 @@ impl Sink for Collect {
 #[test]
 fn retries_report_flaky_cases_and_keep_failing_ones_failed() {
     let gpu = Gpu::open(&AdapterSelector::default()).unwrap_or_else(|e| panic!("{e:#}"));
-    let expectations = Expectations::parse(BUILT_IN, "built in").unwrap();
+    let expectations = Expectations::parse(fragkit_cases::EXPECTATIONS, "built in").unwrap();
     let options =
-        RunOptions { expectations: &expectations, evidence_dir: None, reproduce_lines: false, retries: 2, repeats: 1 };
+        RunOptions { expectations: &expectations, evidence_dir: None, reproduce_command: None, retries: 2, repeats: 1 };
     let runs = [&FLAKY, &BROKEN].map(|case| CaseRun { case, overrides: Default::default() });
     let (mut first, mut second) = (Collect::default(), Collect::default());
     let report = run(gpu, &runs, &options, &mut [&mut first, &mut second]).unwrap();

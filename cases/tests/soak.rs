@@ -6,8 +6,8 @@ mod support;
 
 use std::collections::BTreeMap;
 
-use fragkit::harness::report::ReportedOutcome;
 use fragkit::harness::runner::run_case;
+use fragkit_report::report::ReportedOutcome;
 
 #[test]
 fn soaks_run_through_resizes_and_reproduce_their_last_frame() {

@@ -4,13 +4,14 @@
 use anyhow::Result;
 use serde::Serialize;
 
-use crate::gpu::{AdapterDescription, Gpu};
+use crate::gpu::Gpu;
 use crate::probe::alpha_to_coverage::{AlphaToCoverage, measure_alpha_to_coverage};
 use crate::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 use crate::probe::sample_positions::{
     PerSampleShading, PositionsMeasurement, SamplePosition, measure, measure_per_sample_shading, standard_positions,
 };
 use crate::probe::subpixel_precision::{self, COARSEST_SNAP, SubpixelPrecision};
+use fragkit_report::AdapterDescription;
 
 /// Formats whose multisample support the report lists.
 pub const PROBED_FORMATS: &[wgpu::TextureFormat] = &[

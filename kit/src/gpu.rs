@@ -4,7 +4,7 @@
 use std::sync::Mutex;
 
 use anyhow::{Context, Result, anyhow, bail};
-use serde::Serialize;
+use fragkit_report::AdapterDescription;
 
 use crate::query::EncoderClock;
 
@@ -22,39 +22,14 @@ pub struct AdapterSelector {
     pub driver_info: Option<String>,
 }
 
-/// What the report says about an adapter.
-#[derive(Clone, Debug, Default, Serialize, serde::Deserialize, PartialEq, Eq)]
-pub struct AdapterDescription {
-    pub name: String,
-    pub backend: String,
-    pub driver: String,
-    pub driver_info: String,
-    pub device_type: String,
-}
-
-impl AdapterDescription {
-    pub fn of(info: &wgpu::AdapterInfo) -> Self {
-        Self {
-            name: info.name.clone(),
-            backend: info.backend.to_str().to_owned(),
-            driver: info.driver.clone(),
-            driver_info: info.driver_info.clone(),
-            device_type: format!("{:?}", info.device_type),
-        }
-    }
-
-    /// A file-name-safe identifier, used to keep one adapter's snapshots from judging another's.
-    pub fn slug(&self) -> String {
-        let raw = format!("{}-{}", self.backend, self.name);
-        let mut slug = String::with_capacity(raw.len());
-        for c in raw.chars() {
-            if c.is_ascii_alphanumeric() {
-                slug.push(c.to_ascii_lowercase());
-            } else if !slug.ends_with('_') {
-                slug.push('_');
-            }
-        }
-        slug.trim_matches('_').to_owned()
+/// What the report says about the adapter `info` describes.
+pub fn describe(info: &wgpu::AdapterInfo) -> AdapterDescription {
+    AdapterDescription {
+        name: info.name.clone(),
+        backend: info.backend.to_str().to_owned(),
+        driver: info.driver.clone(),
+        driver_info: info.driver_info.clone(),
+        device_type: format!("{:?}", info.device_type),
     }
 }
 
@@ -218,7 +193,7 @@ impl Gpu {
             .contains(wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
             .then(|| Mutex::new(EncoderClock::new(&device, &queue)));
         Ok(Self {
-            description: AdapterDescription::of(&info),
+            description: describe(&info),
             adapter,
             device,
             queue,

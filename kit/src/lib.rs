@@ -14,7 +14,6 @@ pub mod gpu;
 pub mod harness;
 pub mod image_compare;
 pub mod oit;
-pub mod plot;
 pub mod probe;
 pub mod query;
 pub mod readback;

@@ -236,10 +236,3 @@ impl EncoderClock {
         Ok(ns as f64 * self.period_ns * 1e-6)
     }
 }
-
-/// The median of timed repeats (the upper one of an even count): timings on busy machines have
-/// outliers that a mean would carry.
-pub fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values[values.len() / 2]
-}

@@ -81,8 +81,7 @@ shader_files! {
     OIT_BILATERAL => "oit/bilateral.wgsl",
 }
 
-/// Environment variable naming a folder to read shaders from at run time (development only).
-pub const SHADER_DIR_ENV: &str = "FRAGKIT_SHADER_DIR";
+pub use fragkit_report::run_info::SHADER_DIR_ENV;
 
 /// The text of shader file `path`: from `FRAGKIT_SHADER_DIR` when set, else the built-in copy.
 /// An override folder that lacks the file is a setup mistake worth stopping for, not a fallback.

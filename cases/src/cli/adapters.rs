@@ -7,8 +7,9 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
-use fragkit::gpu::{AdapterDescription, AdapterSelector, Gpu, all_adapters, select_adapter};
-use fragkit::harness::report::{Report, ReportedOutcome};
+use fragkit::gpu::{AdapterSelector, Gpu, all_adapters, select_adapter};
+use fragkit_report::AdapterDescription;
+use fragkit_report::report::{Report, ReportedOutcome};
 use serde::{Deserialize, Serialize};
 
 use super::matrix::{ChildEnd, MatrixArgs, Show, print_table, run_children};
@@ -39,7 +40,7 @@ pub fn adapters(selector: &AdapterSelector, args: AdaptersArgs, verbose: bool) -
     if args.selected {
         let resolved = match select_adapter(selector) {
             Ok(adapter) => {
-                let description = AdapterDescription::of(&adapter.get_info());
+                let description = fragkit::gpu::describe(&adapter.get_info());
                 let problem = Gpu::from_adapter(adapter).err().map(|e| format!("the device does not open: {e:#}"));
                 Resolved { adapter: Some(description), problem }
             }
@@ -164,7 +165,7 @@ fn resolve_matrix(args: &MatrixArgs) -> Result<ExitCode> {
 
 fn list_adapters(verbose: bool) -> Result<()> {
     let adapters: Vec<AdapterDescription> =
-        all_adapters().iter().map(|a| AdapterDescription::of(&a.get_info())).collect();
+        all_adapters().iter().map(|a| fragkit::gpu::describe(&a.get_info())).collect();
     let logged = fragkit::harness::diagnostics::take();
     if adapters.is_empty() {
         anyhow::bail!(

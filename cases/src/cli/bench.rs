@@ -8,8 +8,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use fragkit::bench::{BenchResult, TECHNIQUES, for_technique, measure};
 use fragkit::gpu::{AdapterSelector, Gpu};
-use fragkit::harness::database::{Database, RunInfo, RunKind};
-use fragkit::harness::report::Report;
+use fragkit_report::report::Report;
+use fragkit_results::database::{Database, RunInfo, RunKind};
 
 use super::matrix::{MatrixArgs, run_each_showing_output};
 

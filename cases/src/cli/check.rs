@@ -7,27 +7,32 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
-use fragkit::gpu::{AdapterSelector, Gpu};
+use fragkit::gpu::AdapterSelector;
 use fragkit::harness::Case;
-use fragkit::harness::baseline::baseline;
-use fragkit::harness::database::{Database, DatabaseSink, RunInfo, RunKind};
-use fragkit::harness::expectations::{BUILT_IN, Expectations};
-use fragkit::harness::github::GithubSink;
-use fragkit::harness::html::{Column, HtmlSink, write_site};
-use fragkit::harness::junit::JunitSink;
+use fragkit::harness::child_process::log_tail;
 use fragkit::harness::params::parse_overrides;
-use fragkit::harness::readable::counted;
-use fragkit::harness::report::{Report, ReportedOutcome};
-use fragkit::harness::run::{CaseRun, JsonSink, RunOptions, Shard, Sink, plan_runs, run};
-use fragkit::harness::runner::{check_overrides, check_sizes, select};
-use fragkit::harness::snapshot::Snapshot;
-use fragkit::harness::stream::StreamSink;
+use fragkit::harness::run::{CaseRun, RunOptions, plan_runs};
+use fragkit::harness::runner::{check_overrides, select};
+use fragkit::harness::supervise::{CaseTimeout, Supervision, run_child, supervise};
+use fragkit_report::expectations::Expectations;
+use fragkit_report::readable::counted;
+use fragkit_report::report::{Report, ReportedOutcome};
+use fragkit_report::run_info::{RunInfo, RunKind};
+use fragkit_report::sink::{JsonSink, Shard, Sink};
+use fragkit_results::baseline::baseline;
+use fragkit_results::database::{Database, DatabaseSink};
+use fragkit_results::github::GithubSink;
+use fragkit_results::html::{Column, HtmlSink, write_site};
+use fragkit_results::junit::JunitSink;
+use fragkit_results::snapshot::Snapshot;
 
 use super::matrix::{
-    ChildEnd, MatrixArgs, Show, arguments_without, check_selection_is_free, log_tail, print_table, run_children,
+    ChildEnd, MatrixArgs, Show, arguments_without, check_selection_is_free, print_table, run_children,
 };
-use super::supervise::{CaseTimeout, supervise};
 use super::table::TableSink;
+
+/// How to run one case of this kit on its own, for reproduce lines.
+const COMMAND: &str = "fragkit check";
 
 #[derive(clap::Args)]
 pub struct CheckArgs {
@@ -135,7 +140,7 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     let shard = args.shard.as_deref().map(Shard::parse).transpose()?;
     let mut expectations = match &args.expectations {
         Some(path) => Expectations::load(path)?,
-        None => Expectations::parse(BUILT_IN, "cases/expectations.toml (built in)")?,
+        None => Expectations::parse(fragkit_cases::EXPECTATIONS, "cases/expectations.toml (built in)")?,
     };
     for path in &args.baseline {
         expectations.extend(Expectations::load(path)?);
@@ -154,7 +159,7 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
         return check_matrix(selector, &args, &names, &expectations);
     }
     if let Some(stream) = &args.child_stream {
-        return run_child(selector, &args, stream, &cases, &overrides, shard, rerun.as_deref(), &expectations);
+        return run_child_of(selector, &args, stream, &cases, &overrides, shard, rerun.as_deref(), &expectations);
     }
     // Open (and migrate) the database now: a wrong or newer one is refused before the run.
     let database = args.db.as_deref().map(Database::open).transpose()?;
@@ -188,7 +193,9 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
         Some(seconds) => CaseTimeout::Fixed(std::time::Duration::from_secs(seconds)),
         None => CaseTimeout::FromBudget,
     };
-    let report = supervise(&runs, &child_arguments, &expectations, timeout, verbose, &mut sinks)?;
+    let supervision =
+        Supervision { arguments: child_arguments, command: COMMAND, expectations: &expectations, timeout, verbose };
+    let report = supervise(&runs, &supervision, &mut sinks)?;
     if let Some(DatabaseSink { database, run_id: Some(id), .. }) = &database {
         println!("recorded as run {id} in {}", database.location());
     }
@@ -242,7 +249,7 @@ fn failed_runs(path: &Path, flaky_fails: bool) -> Result<Vec<CaseRun<'static>>> 
 
 /// The supervised child: runs the case list from `--skip` on one device, streaming each record.
 #[allow(clippy::too_many_arguments)]
-fn run_child(
+fn run_child_of(
     selector: &AdapterSelector,
     args: &CheckArgs,
     stream: &Path,
@@ -252,20 +259,15 @@ fn run_child(
     rerun: Option<&[CaseRun]>,
     expectations: &Expectations,
 ) -> Result<ExitCode> {
-    let gpu = Gpu::open(selector)?;
-    let runs: Vec<CaseRun> = planned_runs(args, cases, overrides, shard, rerun).into_iter().skip(args.skip).collect();
-    for planned in &runs {
-        check_sizes(&gpu, &[planned.case], &planned.overrides)?;
-    }
+    let runs = planned_runs(args, cases, overrides, shard, rerun);
     let options = RunOptions {
         expectations,
         evidence_dir: args.out.as_deref(),
-        reproduce_lines: args.sweep.is_some(),
+        reproduce_command: args.sweep.is_some().then_some(COMMAND),
         retries: args.retry,
         repeats: args.repeat,
     };
-    let mut sink = StreamSink::create(stream)?;
-    run(gpu, &runs, &options, &mut [&mut sink])?;
+    run_child(selector, &runs, args.skip, &options, stream)?;
     Ok(ExitCode::SUCCESS)
 }
 

@@ -8,9 +8,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
-use fragkit::harness::compare::{TimeJudgement, compare};
-use fragkit::harness::database::{Database, RunRef};
-use fragkit::harness::report::Report;
+use fragkit_report::report::Report;
+use fragkit_results::compare::{TimeJudgement, compare};
+use fragkit_results::database::{Database, RunRef};
 
 #[derive(clap::Args)]
 pub struct CompareArgs {

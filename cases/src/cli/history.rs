@@ -5,9 +5,9 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use fragkit::harness::database::Database;
-use fragkit::harness::readable::number;
-use fragkit::plot::{HistorySeries, RunPoint, history as history_plot};
+use fragkit_report::readable::number;
+use fragkit_results::database::Database;
+use fragkit_results::plot::{HistorySeries, RunPoint, history as history_plot};
 
 #[derive(clap::Args)]
 pub struct HistoryArgs {

@@ -1,13 +1,13 @@
-//! `fragkit html`: the browsable HTML report (`fragkit::harness::html`) of JSON reports or of runs
+//! `fragkit html`: the browsable HTML report (`fragkit_results::html`) of JSON reports or of runs
 //! of a results database — by default the latest run of each adapter there — with the technique
 //! reports' plots from `--include` folders.
 
 use std::path::PathBuf;
 
 use anyhow::Result;
-use fragkit::harness::database::{Database, RunRef};
-use fragkit::harness::html::{Column, write_site};
-use fragkit::harness::report::Report;
+use fragkit_report::report::Report;
+use fragkit_results::database::{Database, RunRef};
+use fragkit_results::html::{Column, write_site};
 
 #[derive(clap::Args)]
 pub struct HtmlArgs {

@@ -6,8 +6,8 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
-use fragkit::harness::database::{Database, RunInfo};
-use fragkit::harness::report::Report;
+use fragkit_report::report::Report;
+use fragkit_results::database::{Database, RunInfo};
 
 #[derive(clap::Args)]
 pub struct ImportArgs {

@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitStatus, Stdio};
 
 use anyhow::{Context, Result, bail};
-use fragkit::harness::matrix::{Configuration, Matrix};
+use fragkit::harness::child_process::{ending, log_tail};
+
+use super::configurations::{Configuration, Matrix};
 
 #[derive(clap::Args, Clone, Debug)]
 pub struct MatrixArgs {
@@ -51,7 +53,7 @@ impl ChildRun<'_> {
     pub fn ending(&self) -> String {
         match &self.end {
             ChildEnd::Absent(why) => format!("absent: {why}"),
-            ChildEnd::Exited(status) => super::supervise::ending(status),
+            ChildEnd::Exited(status) => ending(status),
         }
     }
 
@@ -150,12 +152,7 @@ pub fn run_children<'a>(
         let status =
             command.status().with_context(|| format!("starting {} for {}", program.display(), configuration.name))?;
         if show == Show::Logs {
-            println!(
-                "== {} ({})\n{}",
-                configuration.name,
-                super::supervise::ending(&status),
-                log_tail(&log, usize::MAX)
-            );
+            println!("== {} ({})\n{}", configuration.name, ending(&status), log_tail(&log, usize::MAX));
         }
         runs.push(ChildRun { configuration, end: ChildEnd::Exited(status), log });
     }
@@ -192,13 +189,6 @@ pub fn run_each_showing_output(
         reports.display()
     );
     Ok(())
-}
-
-/// The last `lines` lines of a log, for a child that ended without its report.
-pub fn log_tail(path: &Path, lines: usize) -> String {
-    let text = std::fs::read_to_string(path).unwrap_or_default();
-    let all: Vec<&str> = text.lines().collect();
-    all[all.len().saturating_sub(lines)..].join("\n")
 }
 
 /// Prints rows as columns padded to their widest cell; the first row is the heading.

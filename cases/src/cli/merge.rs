@@ -2,13 +2,13 @@
 //! printed as the table, written as JSON and, when asked, JUnit XML; exit 1 on any unexpected
 //! failure in it.
 
-use fragkit::harness::readable::counted;
+use fragkit_report::readable::counted;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Result;
-use fragkit::harness::junit::write_junit;
-use fragkit::harness::report::Report;
+use fragkit_report::report::Report;
+use fragkit_results::junit::write_junit;
 
 use super::table::print_table;
 

@@ -5,13 +5,13 @@ pub mod bench;
 pub mod caps;
 pub mod check;
 pub mod compare;
+pub mod configurations;
 pub mod history;
 pub mod html;
 pub mod import;
 pub mod list;
 pub mod matrix;
 pub mod merge;
-pub mod supervise;
 pub mod table;
 pub mod technique;
 
@@ -93,7 +93,7 @@ pub fn lod_level() -> clap::builder::RangedI64ValueParser<u32> {
 
 pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
     match fragkit::harness::ParamKind::Sizes.parse(text) {
-        Ok(fragkit::harness::params::ParamValue::Sizes(sizes)) if sizes.len() == 1 => Ok(sizes[0]),
+        Ok(fragkit_report::param_value::ParamValue::Sizes(sizes)) if sizes.len() == 1 => Ok(sizes[0]),
         Ok(_) => Err(format!("{text:?}: expected one size like 320x180")),
         Err(e) => Err(format!("{e:#}")),
     }

@@ -1,7 +1,7 @@
 //! The results table `fragkit check` and `fragkit merge` print: one line a case.
 
-use fragkit::harness::report::Report;
-use fragkit::harness::run::Sink;
+use fragkit_report::report::Report;
+use fragkit_report::sink::Sink;
 
 /// The most telling metric of a case, shown in the table.
 fn key_metric(metrics: &std::collections::BTreeMap<String, serde_json::Value>) -> String {
@@ -31,7 +31,7 @@ fn cut(text: &str, width: usize) -> String {
 
 /// The outcome column: the outcome and, where the case ran more than once (`--retry`), how
 /// many attempts it took.
-fn outcome_cell(record: &fragkit::harness::report::CaseRecord) -> String {
+fn outcome_cell(record: &fragkit_report::report::CaseRecord) -> String {
     match record.attempts {
         0 | 1 => record.outcome.label().to_owned(),
         attempts => format!("{} ×{attempts} runs", record.outcome.label()),
@@ -103,7 +103,7 @@ impl TableSink {
 }
 
 impl Sink for TableSink {
-    fn start(&mut self, d: &fragkit::gpu::AdapterDescription, runs: usize) -> anyhow::Result<()> {
+    fn start(&mut self, d: &fragkit_report::AdapterDescription, runs: usize) -> anyhow::Result<()> {
         println!("adapter: {} ({}, {} {})", d.name, d.backend, d.driver, d.driver_info);
         self.progress = indicatif::ProgressBar::new(runs as u64);
         self.progress
@@ -111,7 +111,7 @@ impl Sink for TableSink {
         Ok(())
     }
 
-    fn record(&mut self, record: &fragkit::harness::report::CaseRecord) -> anyhow::Result<()> {
+    fn record(&mut self, record: &fragkit_report::report::CaseRecord) -> anyhow::Result<()> {
         self.progress.set_message(record.name.clone());
         self.progress.inc(1);
         Ok(())
@@ -131,7 +131,7 @@ impl Sink for TableSink {
 
 #[cfg(test)]
 mod tests {
-    use fragkit::harness::report::{CaseRecord, ReportedOutcome};
+    use fragkit_report::report::{CaseRecord, ReportedOutcome};
 
     use super::*;
 

@@ -10,7 +10,7 @@ use anyhow::Result;
 use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
 use fragkit::probe::stencil_gated_draw::{REJECTION_RATIO_LIMIT, adapter_rejects_early};
-use fragkit::query::median;
+use fragkit_report::noise::median;
 
 use super::{corridor_inputs, frame};
 

@@ -10,10 +10,10 @@ use std::path::Path;
 use std::sync::{Mutex, OnceLock};
 
 use fragkit::harness::Case;
-use fragkit::harness::expectations::{BUILT_IN, Expectations};
-use fragkit::harness::report::CaseRecord;
 use fragkit::harness::runner::run_case;
 use fragkit::{AdapterSelector, Gpu};
+use fragkit_report::expectations::Expectations;
+use fragkit_report::report::CaseRecord;
 
 pub fn gpu() -> &'static Mutex<Gpu> {
     static GPU: OnceLock<Mutex<Gpu>> = OnceLock::new();
@@ -24,7 +24,7 @@ pub fn gpu() -> &'static Mutex<Gpu> {
 }
 
 pub fn expectations() -> Expectations {
-    Expectations::parse(BUILT_IN, "cases/expectations.toml").expect("built-in expectations parse")
+    Expectations::parse(fragkit_cases::EXPECTATIONS, "cases/expectations.toml").expect("built-in expectations parse")
 }
 
 /// Runs one registered case on the shared GPU with its default parameters.

@@ -14,10 +14,11 @@ use std::collections::BTreeMap;
 use anyhow::{Result, bail};
 use serde::Serialize;
 
-use crate::gpu::{AdapterDescription, Gpu};
-use crate::harness::noise::{MedianInterval, median_interval};
-use crate::harness::report::{CaseRecord, ReportedOutcome};
-use crate::query::median;
+use crate::gpu::Gpu;
+use fragkit_report::AdapterDescription;
+use fragkit_report::noise::median;
+use fragkit_report::noise::{MedianInterval, median_interval};
+use fragkit_report::report::{CaseRecord, ReportedOutcome};
 
 /// Confidence sought for the interval of a median speed-up.
 const SPEEDUP_CONFIDENCE: f64 = 0.95;

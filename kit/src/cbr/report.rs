@@ -14,9 +14,10 @@ use super::reconstruct::Detection;
 use super::renderer::{Checkerboard, CheckerboardConfig, FullResolutionScene, HalfResolutionUpscale};
 use super::sampling::{CheckerboardPath, Orientation};
 use super::scene::{CheckerboardScene, Motion, textured_corridor};
-use crate::gpu::{AdapterDescription, Gpu};
-use crate::plot::{PlotPoint, tradeoff};
-use crate::query::median;
+use crate::gpu::Gpu;
+use fragkit_report::AdapterDescription;
+use fragkit_report::noise::median;
+use fragkit_report::plot_data::{PlotPoint, TradeoffPlot};
 
 #[derive(Clone, Debug)]
 pub struct CbrSweep {
@@ -158,8 +159,14 @@ pub fn run_sweep(gpu: &Gpu, sweep: &CbrSweep, mut progress: impl FnMut(&str)) ->
     Ok(rows)
 }
 
-/// Writes `cbr_report.json`, `cbr_report.md` and `cbr_report.png` into `dir`.
-pub fn write_report(dir: &Path, adapter: &AdapterDescription, sweep: &CbrSweep, rows: &[CbrReportRow]) -> Result<()> {
+/// Writes `cbr_report.json` and `cbr_report.md` into `dir`; returns the trade-off plot
+/// `cbr_report.png` for the results tools to draw.
+pub fn write_report(
+    dir: &Path,
+    adapter: &AdapterDescription,
+    sweep: &CbrSweep,
+    rows: &[CbrReportRow],
+) -> Result<TradeoffPlot> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let json = serde_json::json!({
         "adapter": adapter,
@@ -225,11 +232,11 @@ pub fn write_report(dir: &Path, adapter: &AdapterDescription, sweep: &CbrSweep, 
         })
         .collect();
     let order: Vec<String> = sweep.motions.iter().map(|m| m.name()).collect();
-    tradeoff(
-        &dir.join("cbr_report.png"),
-        &format!("CBR error vs GPU time — {}", adapter.name),
-        &format!("GPU time per frame (ms); lines join the sequences {}", order.join(" → ")),
-        "mean FLIP vs full resolution",
-        &points,
-    )
+    Ok(TradeoffPlot {
+        path: dir.join("cbr_report.png"),
+        title: format!("CBR error vs GPU time — {}", adapter.name),
+        x_label: format!("GPU time per frame (ms); lines join the sequences {}", order.join(" → ")),
+        y_label: "mean FLIP vs full resolution".to_owned(),
+        points,
+    })
 }

@@ -15,11 +15,13 @@ use crate::deferred::DeferredInputs;
 use crate::deferred::lighting::FullResolution;
 use crate::gpu::Gpu;
 use crate::image_compare::{compare, flip_mean};
-use crate::plot::{PlotPoint, tradeoff};
-use crate::query::{GpuTimer, median};
+use crate::query::GpuTimer;
 use crate::readback::read_texture;
 use crate::scene::corridor::corridor;
 use crate::tonemap::to_display;
+use fragkit_report::AdapterDescription;
+use fragkit_report::noise::median;
+use fragkit_report::plot_data::{PlotPoint, TradeoffPlot};
 
 /// What to sweep.
 #[derive(Clone, Debug)]
@@ -298,8 +300,9 @@ fn composites_side_by_side(rows: &[CpsReportRow]) -> String {
     )
 }
 
-/// Writes `cps_report.json`, `cps_report.md` and `cps_report.png` into `dir`.
-pub fn write_report(dir: &Path, adapter: &crate::gpu::AdapterDescription, rows: &[CpsReportRow]) -> Result<()> {
+/// Writes `cps_report.json` and `cps_report.md` into `dir`; returns the trade-off plot
+/// `cps_report.png` for the results tools to draw.
+pub fn write_report(dir: &Path, adapter: &AdapterDescription, rows: &[CpsReportRow]) -> Result<TradeoffPlot> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let json = serde_json::json!({"adapter": adapter, "rows": rows});
     std::fs::write(dir.join("cps_report.json"), serde_json::to_string_pretty(&json)?)
@@ -351,11 +354,11 @@ pub fn write_report(dir: &Path, adapter: &crate::gpu::AdapterDescription, rows: 
             y: r.flip,
         })
         .collect();
-    tradeoff(
-        &dir.join("cps_report.png"),
-        &format!("CPS error vs GPU time — {}, {lights} lights", adapter.name),
-        "GPU time of the lighting work (ms); lines join the top levels",
-        "mean FLIP vs full resolution",
-        &points,
-    )
+    Ok(TradeoffPlot {
+        path: dir.join("cps_report.png"),
+        title: format!("CPS error vs GPU time — {}, {lights} lights", adapter.name),
+        x_label: "GPU time of the lighting work (ms); lines join the top levels".to_owned(),
+        y_label: "mean FLIP vs full resolution".to_owned(),
+        points,
+    })
 }

@@ -1,28 +1,18 @@
-//! The case harness: cases with parameters and requirements, outcomes, the expectations file of
-//! known driver issues, the runner that isolates each case, the run loop that feeds every record
-//! to its sinks, and the JSON and JUnit reports.
+//! The case harness: cases with parameters and requirements, the runner that runs each case
+//! (`runner`), the run loop that feeds every record to its sinks (`run`), and the supervisor
+//! that runs a case list in child processes so that a crash or a hang costs one case
+//! (`supervise`). What a run yields — records, outcomes, sinks, known issues — is the report
+//! model, `fragkit_report`.
 
-pub mod baseline;
 pub mod capability;
 pub mod case;
-pub mod compare;
-pub mod database;
+pub mod child_process;
 pub mod diagnostics;
-pub mod expectations;
-pub mod github;
-pub mod html;
-pub mod junit;
-pub mod markup;
-pub mod matrix;
-pub mod noise;
 pub mod params;
-pub mod readable;
-pub mod report;
 pub mod run;
-pub mod run_info;
 pub mod runner;
-pub mod snapshot;
 pub mod stream;
+pub mod supervise;
 pub mod sweep;
 
 pub use case::{Case, Ctx, Outcome};

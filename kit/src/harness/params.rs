@@ -3,6 +3,7 @@
 use std::collections::BTreeMap;
 
 use anyhow::{Context, Result, bail};
+use fragkit_report::param_value::ParamValue;
 use serde::Serialize;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -26,26 +27,6 @@ pub struct ParamSpec {
     pub kind: ParamKind,
     pub default: &'static str,
     pub help: &'static str,
-}
-
-#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
-#[serde(untagged)]
-pub enum ParamValue {
-    Count(u64),
-    Counts(Vec<u64>),
-    Sizes(Vec<(u32, u32)>),
-}
-
-impl ParamValue {
-    /// The value as `--set` takes it (`8`, `1,4`, `64x48,7x5`): [`ParamKind::parse`] reads it back.
-    pub fn to_text(&self) -> String {
-        let join = |items: Vec<String>| items.join(",");
-        match self {
-            Self::Count(v) => v.to_string(),
-            Self::Counts(vs) => join(vs.iter().map(u64::to_string).collect()),
-            Self::Sizes(sizes) => join(sizes.iter().map(|(w, h)| format!("{w}x{h}")).collect()),
-        }
-    }
 }
 
 fn parse_count(text: &str) -> Result<u64> {

@@ -6,16 +6,16 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use anyhow::{Result, bail};
+use anyhow::Result;
 
 use super::case::Case;
 use super::diagnostics;
-use super::expectations::Expectations;
-use super::report::{CaseRecord, Report, ReportedOutcome};
-use super::run_info::RunInfo;
 use super::runner::run_case;
 use super::sweep;
-use crate::gpu::{AdapterDescription, Gpu};
+use crate::gpu::Gpu;
+use fragkit_report::expectations::Expectations;
+use fragkit_report::report::{CaseRecord, Report, ReportedOutcome};
+use fragkit_report::sink::Sink;
 
 /// One case to run with its `--set` overrides (drawn from its ranges under a sweep).
 #[derive(Clone)]
@@ -48,54 +48,13 @@ pub fn plan_runs<'c>(
     }
 }
 
-/// Shard `index` of `count` (1-based, as `--shard K/N` spells it).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub struct Shard {
-    pub index: u32,
-    pub count: u32,
-}
-
-impl Shard {
-    /// Parses `K/N` with 1 ≤ K ≤ N.
-    pub fn parse(text: &str) -> Result<Self> {
-        let parsed = text
-            .split_once('/')
-            .and_then(|(k, n)| Some((k.trim().parse::<u32>().ok()?, n.trim().parse::<u32>().ok()?)));
-        match parsed {
-            Some((index, count)) if (1..=count).contains(&index) => Ok(Self { index, count }),
-            _ => bail!("--shard {text:?}: expected K/N with 1 <= K <= N, e.g. 2/4"),
-        }
-    }
-
-    /// This shard's runs: every N-th of the list, starting at the K-th. The list is the same on
-    /// every machine (registry order, seeded draws), so the shards together run each once.
-    pub fn select<'c>(self, runs: Vec<CaseRun<'c>>) -> Vec<CaseRun<'c>> {
-        runs.into_iter()
-            .enumerate()
-            .filter(|(i, _)| *i as u32 % self.count == self.index - 1)
-            .map(|(_, run)| run)
-            .collect()
-    }
-}
-
-/// Where a run's records go. `record` sees each case as it finishes; `finish` the whole report,
-/// also when the run stops early (a device that cannot be reopened).
-pub trait Sink {
-    fn start(&mut self, _adapter: &AdapterDescription, _runs: usize) -> Result<()> {
-        Ok(())
-    }
-    fn record(&mut self, _record: &CaseRecord) -> Result<()> {
-        Ok(())
-    }
-    fn finish(&mut self, report: &Report) -> Result<()>;
-}
-
 /// How a run treats its cases.
 pub struct RunOptions<'a> {
     pub expectations: &'a Expectations,
     pub evidence_dir: Option<&'a Path>,
-    /// Append the `fragkit check … --set …` line that reproduces a failure (sweeps).
-    pub reproduce_lines: bool,
+    /// Append to a failure the command line that reproduces it, this command (the suite's way
+    /// to run one case: `fragkit check`) with the case and its `--set`s (sweeps).
+    pub reproduce_command: Option<&'a str>,
     /// Re-run a failed case up to this many times; passing on a retry makes it `flaky`.
     pub retries: u32,
     /// Above 1: after the case's run (its verdict, and the warm-up: it compiles the pipelines
@@ -134,7 +93,7 @@ fn repeat(gpu: &Gpu, run: &CaseRun, options: &RunOptions, mut record: CaseRecord
         times.extend(again.gpu_ms);
     }
     if !times.is_empty() {
-        record.gpu_ms = Some(crate::query::median(times.clone()));
+        record.gpu_ms = Some(fragkit_report::noise::median(times.clone()));
         record.gpu_ms_repeats = times;
     }
     record
@@ -173,9 +132,9 @@ pub fn run(mut gpu: Gpu, runs: &[CaseRun], options: &RunOptions, sinks: &mut [&m
         if options.repeats > 1 && !record.outcome.is_failure(true) {
             record = repeat(&gpu, run, options, record);
         }
-        if options.reproduce_lines && record.outcome.is_failure(true) {
+        if let Some(command) = options.reproduce_command.filter(|_| record.outcome.is_failure(true)) {
             record.reason =
-                format!("{} [reproduce: {}]", record.reason, sweep::reproduce_line(run.case, &run.overrides));
+                format!("{} [reproduce: {}]", record.reason, sweep::reproduce_line(command, run.case, &run.overrides));
         }
         for sink in sinks.iter_mut() {
             sink.record(&record)?;
@@ -202,23 +161,10 @@ pub fn run(mut gpu: Gpu, runs: &[CaseRun], options: &RunOptions, sinks: &mut [&m
     Ok(report)
 }
 
-/// Writes the JSON report when the run finishes (atomically).
-pub struct JsonSink<'a> {
-    pub path: &'a Path,
-    /// The run's shard, written into the report for `merge`.
-    pub shard: Option<Shard>,
-    /// The run's kind, time and commit, written into the report for `import`.
-    pub run: RunInfo,
-}
-
-impl Sink for JsonSink<'_> {
-    fn finish(&mut self, report: &Report) -> Result<()> {
-        Report { shard: self.shard, run: Some(self.run.clone()), ..report.clone() }.write_atomically(self.path)
-    }
-}
-
 #[cfg(test)]
 mod tests {
+    use fragkit_report::sink::Shard;
+
     use super::*;
 
     #[test]
@@ -231,13 +177,5 @@ mod tests {
             .collect();
         seen.sort_unstable();
         assert_eq!(seen, ["a", "b", "c", "d", "e"]);
-    }
-
-    #[test]
-    fn shard_spellings_outside_one_to_n_are_refused() {
-        assert_eq!(Shard::parse("2/4").unwrap(), Shard { index: 2, count: 4 });
-        for bad in ["3/2", "0/4", "1/0", "1", "a/b", "-1/2"] {
-            assert!(Shard::parse(bad).is_err(), "{bad} accepted");
-        }
     }
 }

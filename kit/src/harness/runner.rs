@@ -11,10 +11,10 @@ use glob::Pattern;
 
 use super::case::{Case, Ctx, Outcome};
 use super::diagnostics;
-use super::expectations::{Expectations, KnownIssue};
 use super::params::{ParamKind, Params};
-use super::report::{CaseRecord, ReportedOutcome};
 use crate::gpu::Gpu;
+use fragkit_report::expectations::{Expectations, KnownIssue};
+use fragkit_report::report::{CaseRecord, ReportedOutcome};
 
 /// Prefixes of the cases that run only when a pattern starting with the prefix names them:
 /// fault injection (which fails on purpose) and long soaks.

@@ -11,9 +11,9 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use serde::{Deserialize, Serialize};
 
-use super::report::{CaseRecord, Report};
-use super::run::Sink;
-use crate::gpu::AdapterDescription;
+use fragkit_report::AdapterDescription;
+use fragkit_report::report::{CaseRecord, Report};
+use fragkit_report::sink::Sink;
 
 #[derive(Debug, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

@@ -11,11 +11,12 @@ use super::reference::{exact_image, rmse};
 use super::run::{Accumulation, run_method};
 use super::scene::QuadScene;
 use crate::caps::{common_sample_counts, matches_standard};
-use crate::gpu::{AdapterDescription, Gpu};
+use crate::gpu::Gpu;
 use crate::image_compare::flip_mean;
-use crate::plot::{PlotPoint, tradeoff};
 use crate::probe::sample_positions::measure;
 use crate::tonemap::ldr_to_display;
+use fragkit_report::AdapterDescription;
+use fragkit_report::plot_data::{PlotPoint, TradeoffPlot};
 
 #[derive(Clone, Debug)]
 pub struct OitSweep {
@@ -107,8 +108,9 @@ pub fn run_sweep(
     Ok(rows)
 }
 
-/// Writes `oit_report.json`, `oit_report.md` and `oit_report.png` into `dir`.
-pub fn write_report(dir: &Path, adapter: &AdapterDescription, rows: &[OitReportRow]) -> Result<()> {
+/// Writes `oit_report.json` and `oit_report.md` into `dir`; returns the trade-off plot
+/// `oit_report.png` for the results tools to draw.
+pub fn write_report(dir: &Path, adapter: &AdapterDescription, rows: &[OitReportRow]) -> Result<TradeoffPlot> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let json = serde_json::json!({"adapter": adapter, "rows": rows});
     std::fs::write(dir.join("oit_report.json"), serde_json::to_string_pretty(&json)?)
@@ -144,11 +146,11 @@ pub fn write_report(dir: &Path, adapter: &AdapterDescription, rows: &[OitReportR
             y: r.rmse,
         })
         .collect();
-    tradeoff(
-        &dir.join("oit_report.png"),
-        &format!("OIT error vs GPU time — {}", adapter.name),
-        "GPU time (ms); lines join the frames accumulated",
-        "RMSE vs exact composite",
-        &points,
-    )
+    Ok(TradeoffPlot {
+        path: dir.join("oit_report.png"),
+        title: format!("OIT error vs GPU time — {}", adapter.name),
+        x_label: "GPU time (ms); lines join the frames accumulated".to_owned(),
+        y_label: "RMSE vs exact composite".to_owned(),
+        points,
+    })
 }

@@ -11,10 +11,11 @@ use wgpu::util::DeviceExt;
 use crate::attachments;
 use crate::fullscreen::{FullscreenPipeline, bind_group, uniform_buffer};
 use crate::gpu::Gpu;
-use crate::query::{GpuTimer, OcclusionQueries, median};
+use crate::query::{GpuTimer, OcclusionQueries};
 use crate::readback::read_buffer_words;
 use crate::rects::{Rect, RectBatch, RectPipeline, stencil_replace, stencil_state};
 use crate::shaders;
+use fragkit_report::noise::median;
 
 const STENCIL: wgpu::TextureFormat = wgpu::TextureFormat::Depth24PlusStencil8;
 

@@ -108,7 +108,12 @@ impl Technique for Cbr {
             ..defaults
         };
         let rows = fragkit::cbr::report::run_sweep(gpu, &sweep, |sequence| progress(sequence.to_owned()))?;
-        fragkit::cbr::report::write_report(&args.out, &gpu.description, &sweep, &rows)?;
+        fragkit_results::plot::tradeoff(&fragkit::cbr::report::write_report(
+            &args.out,
+            &gpu.description,
+            &sweep,
+            &rows,
+        )?)?;
         Ok(args.out.join("cbr_report.md"))
     }
 }

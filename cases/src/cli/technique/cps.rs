@@ -79,7 +79,7 @@ impl Technique for Cps {
         let rows = fragkit::cps::report::run_sweep(gpu, &sweep, |row| {
             progress(format!("{} lights, {} {} level {}", row.lights, row.method, row.composite, row.max_level));
         })?;
-        fragkit::cps::report::write_report(&args.out, &gpu.description, &rows)?;
+        fragkit_results::plot::tradeoff(&fragkit::cps::report::write_report(&args.out, &gpu.description, &rows)?)?;
         Ok(args.out.join("cps_report.md"))
     }
 }

@@ -84,7 +84,7 @@ impl Technique for Oit {
         let rows = fragkit::oit::report::run_sweep(gpu, &scene, &sweep, |row| {
             progress(format!("{} {}x {} frames", row.method, row.samples, row.frames));
         })?;
-        fragkit::oit::report::write_report(&args.out, &gpu.description, &rows)?;
+        fragkit_results::plot::tradeoff(&fragkit::oit::report::write_report(&args.out, &gpu.description, &rows)?)?;
         Ok(args.out.join("oit_report.md"))
     }
 }

@@ -6,9 +6,11 @@
 use anyhow::{Result, bail};
 use serde::{Deserialize, Serialize};
 
-use crate::shaders::SHADER_DIR_ENV;
+/// Environment variable naming a folder the kit reads its shaders from at run time instead of
+/// its built-in copies (development, mutation testing): a run made so says so.
+pub const SHADER_DIR_ENV: &str = "FRAGKIT_SHADER_DIR";
 
-/// The commit the kit was built from (kit/build.rs), where the build could ask git.
+/// The commit the kit was built from (kit/report/build.rs), where the build could ask git.
 pub const BUILD_COMMIT: Option<&str> = option_env!("FRAGKIT_GIT_COMMIT");
 
 /// What made a run.

@@ -15,9 +15,9 @@ use anyhow::{Context, Result};
 
 use super::compare::{Comparison, GpuHistory, TimeJudgement, compare};
 use super::markup::escape;
-use super::readable::{counted, number, utc_time};
-use super::report::{CaseRecord, Report};
-use super::run_info::RunInfo;
+use fragkit_report::readable::{counted, number, utc_time};
+use fragkit_report::report::{CaseRecord, Report};
+use fragkit_report::run_info::RunInfo;
 
 /// One column of the matrix.
 pub struct Column {
@@ -491,7 +491,7 @@ pub struct HtmlSink<'a> {
     pub run: RunInfo,
 }
 
-impl super::run::Sink for HtmlSink<'_> {
+impl fragkit_report::sink::Sink for HtmlSink<'_> {
     fn finish(&mut self, report: &Report) -> Result<()> {
         let column = Column::new("this run".to_owned(), Report { run: Some(self.run.clone()), ..report.clone() });
         write_site(self.dir, &[column], &[]).map(|_| ())

@@ -9,8 +9,8 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 
-use super::expectations::Expectations;
-use super::report::{Report, ReportedOutcome, is_timing_metric};
+use fragkit_report::expectations::Expectations;
+use fragkit_report::report::{Report, ReportedOutcome, is_timing_metric};
 
 /// Per case run (`CaseRecord::run_name`): `{"outcome": …, "metrics": {…}}`.
 #[derive(Clone, Debug, Default, PartialEq)]

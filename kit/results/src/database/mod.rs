@@ -14,10 +14,10 @@ use anyhow::{Context, Result, bail};
 
 pub use self::store::{Access, Location};
 use self::store::{Dialect, Row, Store, Transaction, redact};
-use super::compare::GpuHistory;
-use super::report::{CaseRecord, Report, ReportedOutcome, run_name};
-pub use super::run_info::{RunInfo, RunKind};
-use crate::gpu::AdapterDescription;
+use crate::compare::GpuHistory;
+use fragkit_report::AdapterDescription;
+use fragkit_report::report::{CaseRecord, Report, ReportedOutcome, run_name};
+pub use fragkit_report::run_info::{RunInfo, RunKind};
 
 /// Schema migrations, applied in order. `{id}` is each dialect's auto-numbered key; the other
 /// types mean the same in both (BIGINT: 64-bit integer, DOUBLE PRECISION: f64).
@@ -730,7 +730,7 @@ impl DatabaseSink {
     }
 }
 
-impl super::run::Sink for DatabaseSink {
+impl fragkit_report::sink::Sink for DatabaseSink {
     fn start(&mut self, adapter: &AdapterDescription, _runs: usize) -> Result<()> {
         self.adapter = adapter.clone();
         self.flush_or_wait();

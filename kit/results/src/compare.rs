@@ -7,9 +7,9 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use super::noise::mann_whitney_p;
-use super::readable::counted;
-use super::report::{CaseRecord, Report, ReportedOutcome, is_timing_metric};
+use fragkit_report::noise::mann_whitney_p;
+use fragkit_report::readable::counted;
+use fragkit_report::report::{CaseRecord, Report, ReportedOutcome, is_timing_metric};
 
 /// One case run present in both reports whose outcome differs.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -200,7 +200,7 @@ impl TimeJudgement {
 }
 
 fn median(values: &[f64]) -> f64 {
-    crate::query::median(values.to_vec())
+    fragkit_report::noise::median(values.to_vec())
 }
 
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
@@ -414,7 +414,7 @@ impl Comparison {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gpu::AdapterDescription;
+    use fragkit_report::AdapterDescription;
 
     fn record(name: &str, outcome: ReportedOutcome, metric: f64) -> CaseRecord {
         CaseRecord {
@@ -466,7 +466,7 @@ mod tests {
 
     fn timed(repeats: &[f64]) -> CaseRecord {
         CaseRecord {
-            gpu_ms: Some(crate::query::median(repeats.to_vec())),
+            gpu_ms: Some(fragkit_report::noise::median(repeats.to_vec())),
             gpu_ms_repeats: if repeats.len() > 1 { repeats.to_vec() } else { Vec::new() },
             ..record("t", ReportedOutcome::Pass, 1.0)
         }

@@ -8,10 +8,10 @@
 
 use std::fmt::Write as _;
 
-use super::expectations::FailureKind;
-use super::readable::utc_time;
-use super::report::{Report, ReportedOutcome};
-use super::run_info::RunInfo;
+use fragkit_report::expectations::FailureKind;
+use fragkit_report::readable::utc_time;
+use fragkit_report::report::{Report, ReportedOutcome};
+use fragkit_report::run_info::RunInfo;
 
 /// TOML text, quoted and escaped.
 fn quoted(text: &str) -> String {
@@ -65,9 +65,9 @@ pub fn baseline(report: &Report, run: &RunInfo) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gpu::AdapterDescription;
-    use crate::harness::expectations::Expectations;
-    use crate::harness::report::CaseRecord;
+    use fragkit_report::AdapterDescription;
+    use fragkit_report::expectations::Expectations;
+    use fragkit_report::report::CaseRecord;
 
     #[test]
     fn a_baseline_expects_each_failure_again_on_this_adapter_and_nothing_else() {
@@ -80,14 +80,14 @@ mod tests {
         let report = Report {
             adapter: adapter.clone(),
             cases: vec![
-                CaseRecord::for_test("kit.a", ReportedOutcome::Fail, "3 pixels \"differ\"\nmore"),
-                CaseRecord::for_test(
+                CaseRecord::unmeasured("kit.a", ReportedOutcome::Fail, "3 pixels \"differ\"\nmore"),
+                CaseRecord::unmeasured(
                     "kit.b",
                     ReportedOutcome::Crash,
                     "crash: the process running the case was killed by signal 6",
                 ),
-                CaseRecord::for_test("kit.c", ReportedOutcome::Pass, ""),
-                CaseRecord::for_test("kit.d", ReportedOutcome::Flaky, "1 pixel"),
+                CaseRecord::unmeasured("kit.c", ReportedOutcome::Pass, ""),
+                CaseRecord::unmeasured("kit.d", ReportedOutcome::Flaky, "1 pixel"),
             ],
             diagnostics: Vec::new(),
             shard: None,

@@ -11,8 +11,8 @@ use std::path::Path;
 use anyhow::Result;
 
 use super::markup::escape;
-use super::report::{CaseRecord, Report, ReportedOutcome, write_through_temporary};
-use super::run::Sink;
+use fragkit_report::report::{CaseRecord, Report, ReportedOutcome, write_through_temporary};
+use fragkit_report::sink::Sink;
 
 /// The case's area: its name up to the last dot.
 fn classname(name: &str) -> &str {
@@ -123,10 +123,10 @@ pub fn write_junit(report: &Report, path: &Path, flaky_fails: bool) -> Result<()
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gpu::AdapterDescription;
+    use fragkit_report::AdapterDescription;
 
     fn record(name: &str, outcome: ReportedOutcome, reason: &str) -> CaseRecord {
-        CaseRecord { wall_ms: 1500.0, ..CaseRecord::for_test(name, outcome, reason) }
+        CaseRecord { wall_ms: 1500.0, ..CaseRecord::unmeasured(name, outcome, reason) }
     }
 
     #[test]
@@ -179,12 +179,12 @@ mod tests {
         .collect();
         // A sweep: one case run twice with different parameters.
         cases.push(CaseRecord {
-            params: [("n".to_owned(), super::super::params::ParamValue::Count(2))].into(),
+            params: [("n".to_owned(), fragkit_report::param_value::ParamValue::Count(2))].into(),
             ..record("kit.case0", ReportedOutcome::Pass, "")
         });
         let report =
             Report { adapter: AdapterDescription::default(), cases, diagnostics: Vec::new(), shard: None, run: None };
-        let schema = concat!(env!("CARGO_MANIFEST_DIR"), "/src/harness/junit.xsd");
+        let schema = concat!(env!("CARGO_MANIFEST_DIR"), "/src/junit.xsd");
         for flaky_fails in [false, true] {
             let path = std::env::temp_dir().join(format!("fragkit-junit-{}-{flaky_fails}.xml", std::process::id()));
             write_junit(&report, &path, flaky_fails).unwrap();

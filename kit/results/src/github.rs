@@ -9,9 +9,9 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 
-use super::readable::counted;
-use super::report::{CaseRecord, Report};
-use crate::gpu::AdapterDescription;
+use fragkit_report::AdapterDescription;
+use fragkit_report::readable::counted;
+use fragkit_report::report::{CaseRecord, Report};
 
 /// A workflow command's message: `%`, CR and LF escaped as the runner reads them back.
 fn escape_data(text: &str) -> String {
@@ -69,7 +69,7 @@ impl GithubSink {
     }
 }
 
-impl super::run::Sink for GithubSink {
+impl fragkit_report::sink::Sink for GithubSink {
     fn start(&mut self, adapter: &AdapterDescription, _runs: usize) -> Result<()> {
         self.adapter = adapter.clone();
         Ok(())
@@ -97,11 +97,11 @@ impl super::run::Sink for GithubSink {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::harness::report::ReportedOutcome;
+    use fragkit_report::report::ReportedOutcome;
 
     #[test]
     fn a_failure_becomes_one_escaped_annotation_and_a_summary_row() {
-        let record = CaseRecord::for_test("kit.a", ReportedOutcome::Fail, "50% off: 3, 4\nsecond line");
+        let record = CaseRecord::unmeasured("kit.a", ReportedOutcome::Fail, "50% off: 3, 4\nsecond line");
         let adapter = AdapterDescription { name: "gpu, one".into(), backend: "vulkan".into(), ..Default::default() };
         assert_eq!(
             annotation(&record, &adapter, false).unwrap(),

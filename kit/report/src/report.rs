@@ -8,10 +8,10 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use serde::{Deserialize, Serialize};
 
-use super::params::ParamValue;
-use super::run::Shard;
-use super::run_info::RunInfo;
-use crate::gpu::AdapterDescription;
+use crate::adapter::AdapterDescription;
+use crate::param_value::ParamValue;
+use crate::run_info::RunInfo;
+use crate::sink::Shard;
 
 /// A case's outcome as reported, after the expectations file was applied.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -118,10 +118,10 @@ fn flatten_metric(path: &str, value: &serde_json::Value, out: &mut BTreeMap<Stri
     }
 }
 
-#[cfg(test)]
 impl CaseRecord {
-    /// A record of `name` with nothing measured: for the harness's own tests.
-    pub(crate) fn for_test(name: &str, outcome: ReportedOutcome, reason: &str) -> Self {
+    /// A record of `name` with nothing measured: a case that never ran far enough to measure
+    /// (its process died), or a record made up by a test.
+    pub fn unmeasured(name: &str, outcome: ReportedOutcome, reason: &str) -> Self {
         Self {
             name: name.into(),
             outcome,
@@ -130,7 +130,7 @@ impl CaseRecord {
             metrics: BTreeMap::new(),
             gpu_ms: None,
             gpu_ms_repeats: Vec::new(),
-            wall_ms: 1.0,
+            wall_ms: 0.0,
             evidence: Vec::new(),
             attempts: 1,
             diagnostics: Vec::new(),
@@ -246,7 +246,7 @@ impl Report {
             let chosen = records.iter().find(|r| r.outcome.is_failure(true)).unwrap_or(&records[0]);
             let times: Option<Vec<f64>> = records.iter().map(|r| r.gpu_ms).collect();
             // The kit's one median of times (`query::median`), as a run's repeats get.
-            let gpu_ms = times.as_deref().map(|t| crate::query::median(t.to_vec()));
+            let gpu_ms = times.as_deref().map(|t| crate::noise::median(t.to_vec()));
             cases.push(CaseRecord { gpu_ms, gpu_ms_repeats: times.unwrap_or_default(), ..(*chosen).clone() });
         }
         for (path, report) in &reports {
@@ -329,7 +329,7 @@ mod tests {
     fn report(times: &[(&str, Option<f64>, ReportedOutcome)]) -> Report {
         let cases = times
             .iter()
-            .map(|&(name, gpu_ms, outcome)| CaseRecord { gpu_ms, ..CaseRecord::for_test(name, outcome, "") })
+            .map(|&(name, gpu_ms, outcome)| CaseRecord { gpu_ms, ..CaseRecord::unmeasured(name, outcome, "") })
             .collect();
         Report { adapter: AdapterDescription::default(), cases, diagnostics: Vec::new(), shard: None, run: None }
     }
@@ -348,7 +348,7 @@ mod tests {
         assert_eq!((pooled.cases[1].gpu_ms, pooled.cases[1].outcome), (None, Fail));
         // An even count takes the upper of the middle two, as a run's own repeats do.
         let two = Report::pool_processes((0..2).map(named).collect()).unwrap();
-        assert_eq!(two.cases[0].gpu_ms, Some(crate::query::median(vec![3.0, 1.0])));
+        assert_eq!(two.cases[0].gpu_ms, Some(crate::noise::median(vec![3.0, 1.0])));
         assert_eq!(two.cases[0].gpu_ms, Some(3.0));
         let other = report(&[("a", Some(1.0), Pass)]);
         assert!(Report::pool_processes(vec![named(0), (PathBuf::from("x.json"), other)]).is_err());

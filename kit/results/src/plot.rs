@@ -1,24 +1,13 @@
 //! Plots (PNG): trade-offs of error against time (one line per method through its sweep, a
 //! distinct colour and marker per method, the error on a log axis, the Pareto front marked) and
 //! histories (one line per series over whole runs: spreads, failing runs, driver changes). Text uses the bundled DejaVu Sans
-//! (kit/fonts), so no system fonts are needed.
+//! (kit/results/fonts), so no system fonts are needed.
 
 use std::path::Path;
 
 use anyhow::{Context, Result, anyhow};
+use fragkit_report::plot_data::{PlotPoint, TradeoffPlot};
 use plotters::prelude::*;
-
-/// One measured configuration of a trade-off plot.
-#[derive(Clone, Debug)]
-pub struct PlotPoint {
-    /// The method: one line, colour and marker.
-    pub series: String,
-    /// Where the configuration lies in the method's sweep (frames, level, sequence): the line
-    /// joins a method's points in this order.
-    pub step: f64,
-    pub x: f64,
-    pub y: f64,
-}
 
 static FONT: &[u8] = include_bytes!("../fonts/DejaVuSans.ttf");
 
@@ -126,7 +115,8 @@ fn png(
 /// (log: errors span decades; an error of 0 — exact — is drawn on the axis floor), one line per
 /// series through its points in step order with a distinct colour and marker, and the Pareto
 /// front (no point both faster and more exact) as a dashed black line.
-pub fn tradeoff(path: &Path, title: &str, x_label: &str, y_label: &str, points: &[PlotPoint]) -> Result<()> {
+pub fn tradeoff(plot: &TradeoffPlot) -> Result<()> {
+    let TradeoffPlot { path, title, x_label, y_label, points } = plot;
     let finite: Vec<&PlotPoint> = points.iter().filter(|p| p.x.is_finite() && p.y.is_finite() && p.y >= 0.0).collect();
     let max_x = finite.iter().map(|p| p.x).fold(0.0, f64::max).max(1e-3) * 1.05;
     let smallest = finite.iter().map(|p| p.y).filter(|&y| y > 0.0).fold(f64::INFINITY, f64::min);
@@ -335,7 +325,14 @@ mod tests {
             point("a", 6.0, 11.8, 0.03586),
             point("exact", 0.0, 14.0, 0.0),
         ];
-        tradeoff(&path, "test", "time (ms)", "error", &points).unwrap();
+        tradeoff(&TradeoffPlot {
+            path: path.clone(),
+            title: "test".into(),
+            x_label: "time (ms)".into(),
+            y_label: "error".into(),
+            points: points.to_vec(),
+        })
+        .unwrap();
         assert!(std::fs::read(&path).unwrap().starts_with(b"\x89PNG"));
     }
 }

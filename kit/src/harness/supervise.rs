@@ -1,6 +1,6 @@
 //! Cases run in a child process, as deqp-runner runs its case lists: a driver that aborts, a
 //! shader that never ends or a process killed from outside costs one case, not the run. The child
-//! (`check --child-stream FILE --skip N`) runs the case list from run N and streams each record;
+//! (this program again, with `--child-stream FILE --skip N`) runs the case list from run N and streams each record;
 //! the parent hands the records to its sinks as they come, records the case a child died in as
 //! `crash` (or `timeout`, when no record came within the case's time and the parent killed it:
 //! `CaseTimeout`) and starts a new child after it, so every output holds every case.
@@ -11,16 +11,19 @@ use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
-use fragkit::gpu::AdapterDescription;
-use fragkit::harness::Case;
-use fragkit::harness::expectations::Expectations;
-use fragkit::harness::params::Params;
-use fragkit::harness::report::{CaseRecord, Report, ReportedOutcome};
-use fragkit::harness::run::{CaseRun, Sink};
-use fragkit::harness::stream::{StreamLine, read_new_lines};
-use fragkit::harness::sweep::reproduce_line;
+use fragkit_report::AdapterDescription;
+use fragkit_report::expectations::Expectations;
+use fragkit_report::report::{CaseRecord, Report, ReportedOutcome};
+use fragkit_report::sink::Sink;
 
-use super::matrix::log_tail;
+use super::case::Case;
+use super::child_process::{ending, log_tail};
+use super::params::Params;
+use super::run::{CaseRun, RunOptions, run};
+use super::runner::check_sizes;
+use super::stream::{StreamLine, StreamSink, read_new_lines};
+use super::sweep::reproduce_line;
+use crate::gpu::{AdapterSelector, Gpu};
 
 /// How often the parent looks for new records and a child's end.
 const POLL: Duration = Duration::from_millis(20);
@@ -89,44 +92,33 @@ enum Death {
     TimedOut,
 }
 
-fn signal_name(signal: i32) -> &'static str {
-    match signal {
-        4 => "SIGILL",
-        6 => "SIGABRT",
-        7 => "SIGBUS",
-        8 => "SIGFPE",
-        9 => "SIGKILL",
-        11 => "SIGSEGV",
-        15 => "SIGTERM",
-        _ => "signal",
-    }
+/// How a supervisor starts its children and judges their deaths.
+pub struct Supervision<'a> {
+    /// The child's command line after the program: the parent's own, less what only the parent
+    /// writes. The child is this program (`std::env::current_exe`), given `arguments` and then
+    /// [`CHILD_STREAM`] FILE [`CHILD_SKIP`] N, and must answer them with [`run_child`].
+    pub arguments: Vec<OsString>,
+    /// The command that runs one case on its own (`fragkit check`), for reproduce lines.
+    pub command: &'a str,
+    pub expectations: &'a Expectations,
+    pub timeout: CaseTimeout,
+    /// Echo what each child logged, after it.
+    pub verbose: bool,
 }
 
-/// How a process ended, in words: the signal that killed it, or its exit code.
-pub fn ending(status: &ExitStatus) -> String {
-    #[cfg(unix)]
-    {
-        use std::os::unix::process::ExitStatusExt;
-        if let Some(signal) = status.signal() {
-            return format!("killed by signal {signal} ({})", signal_name(signal));
-        }
-    }
-    match status.code() {
-        Some(code) => format!("exit {code}"),
-        None => "ended without a code".into(),
-    }
-}
+/// The flag that makes a program a supervised child: stream each record into this file.
+pub const CHILD_STREAM: &str = "--child-stream";
+/// The flag that tells a child which case run of the list to start at.
+pub const CHILD_SKIP: &str = "--skip";
 
-/// Runs `runs` in children of this program started with `arguments`, handing every record to
-/// `sinks`; returns the report.
-pub fn supervise(
-    runs: &[CaseRun],
-    arguments: &[OsString],
-    expectations: &Expectations,
-    timeout: CaseTimeout,
-    verbose: bool,
-    sinks: &mut [&mut dyn Sink],
-) -> Result<Report> {
+/// Runs `runs` in children of this program, handing every record to `sinks` as it comes;
+/// returns the report. A child that dies (a signal, an abort, an exit before recording) or
+/// goes quiet past its case's timeout costs that case alone: it is recorded `crash` or
+/// `timeout` (or `known_issue`, where the expectations list that death) and a new child
+/// continues from the case after it.
+pub fn supervise(runs: &[CaseRun], supervision: &Supervision, sinks: &mut [&mut dyn Sink]) -> Result<Report> {
+    let Supervision { arguments, timeout, verbose, .. } = supervision;
+    let (timeout, verbose) = (*timeout, *verbose);
     let program = std::env::current_exe().context("finding this program to run the cases in a child")?;
     let scratch = Scratch::new()?;
     let mut report: Option<Report> = None;
@@ -221,7 +213,7 @@ pub fn supervise(
         let Some(run) = runs.get(done) else { break };
         let stderr_whole = std::fs::read_to_string(&scratch.stderr).unwrap_or_default();
         let death = DeathReport { death, message: last_message(&stderr_whole), stderr_tail };
-        let record = death_record(run, &death, &report.adapter, expectations, timeout);
+        let record = death_record(run, &death, &report.adapter, supervision);
         for sink in sinks.iter_mut() {
             sink.record(&record)?;
         }
@@ -240,15 +232,34 @@ fn start_child(program: &Path, arguments: &[OsString], scratch: &Scratch, skip: 
         .with_context(|| format!("creating {} for the case child's errors", scratch.stderr.display()))?;
     Command::new(program)
         .args(arguments)
-        .arg("--child-stream")
+        .arg(CHILD_STREAM)
         .arg(&scratch.stream)
-        .arg("--skip")
+        .arg(CHILD_SKIP)
         .arg(skip.to_string())
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(stderr)
         .spawn()
         .with_context(|| format!("starting {} for the cases", program.display()))
+}
+
+/// The supervised child's side: opens the device `selector` names and runs `runs` from case run
+/// `skip` on, streaming each record into `stream` for the parent.
+pub fn run_child(
+    selector: &AdapterSelector,
+    runs: &[CaseRun],
+    skip: usize,
+    options: &RunOptions,
+    stream: &Path,
+) -> Result<()> {
+    let gpu = Gpu::open(selector)?;
+    let runs = &runs[skip.min(runs.len())..];
+    for planned in runs {
+        check_sizes(&gpu, &[planned.case], &planned.overrides)?;
+    }
+    let mut sink = StreamSink::create(stream)?;
+    run(gpu, runs, options, &mut [&mut sink])?;
+    Ok(())
 }
 
 /// A child's death and what its stderr said.
@@ -272,9 +283,9 @@ fn death_record(
     run: &CaseRun,
     report: &DeathReport,
     adapter: &AdapterDescription,
-    expectations: &Expectations,
-    timeout: CaseTimeout,
+    supervision: &Supervision,
 ) -> CaseRecord {
+    let Supervision { command, expectations, timeout, .. } = supervision;
     let DeathReport { death, message: last_error, stderr_tail } = report;
     let (outcome, what) = match death {
         Death::Status(status) => {
@@ -303,7 +314,11 @@ fn death_record(
         }
         _ => (
             outcome,
-            format!("{why} [reproduce: {} --backend {}]", reproduce_line(run.case, &run.overrides), adapter.backend),
+            format!(
+                "{why} [reproduce: {} --backend {}]",
+                reproduce_line(command, run.case, &run.overrides),
+                adapter.backend
+            ),
         ),
     };
     let params =

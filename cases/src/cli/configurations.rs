@@ -8,7 +8,7 @@ use anyhow::{Context, Result, bail};
 use serde::Deserialize;
 
 /// The matrix shipped with the kit.
-pub const BUILT_IN: &str = include_str!("../../../cases/adapters.toml");
+pub const BUILT_IN: &str = include_str!("../../adapters.toml");
 
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -62,7 +62,7 @@ impl Matrix {
     pub fn parse(text: &str, origin: &str) -> Result<Self> {
         let matrix: Self = toml::from_str(text).with_context(|| format!("parsing adapter matrix {origin}"))?;
         for (i, configuration) in matrix.configurations.iter().enumerate() {
-            crate::gpu::parse_backend(&configuration.backend)
+            fragkit::gpu::parse_backend(&configuration.backend)
                 .with_context(|| format!("{origin}: configuration {:?}", configuration.name))?;
             if matrix.configurations[..i].iter().any(|c| c.name == configuration.name) {
                 bail!("{origin}: configuration {:?} is listed twice", configuration.name);

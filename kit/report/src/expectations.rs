@@ -8,10 +8,7 @@ use anyhow::{Context, Result};
 use glob::{MatchOptions, Pattern};
 use serde::Deserialize;
 
-use crate::gpu::AdapterDescription;
-
-/// The expectations shipped with the kit.
-pub const BUILT_IN: &str = include_str!("../../../cases/expectations.toml");
+use crate::adapter::AdapterDescription;
 
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
