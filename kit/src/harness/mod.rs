@@ -12,6 +12,7 @@ pub mod params;
 pub mod run;
 pub mod runner;
 pub mod stream;
+pub mod suite;
 pub mod supervise;
 pub mod sweep;
 
