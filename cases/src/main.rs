@@ -59,7 +59,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
     match cli.command {
         Command::Adapters(args) => return cli::adapters::adapters(&selector, args, cli.verbose),
         Command::Caps(args) => cli::caps::caps(&selector, args)?,
-        Command::List { pattern } => cli::list::list(pattern)?,
+        Command::List { pattern } => cli::list::list(pattern, cli.verbose)?,
         Command::Render { technique } => technique.run(&selector)?,
         Command::Report { technique } => technique.run(&selector)?,
         Command::Bench(args) => cli::bench::bench(&selector, args)?,

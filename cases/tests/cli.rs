@@ -69,7 +69,7 @@ fn check_writes_a_json_report_and_list_names_every_case() {
     }
     let (code, listing) = fragkit(&["list"]);
     assert_eq!(code, 0);
-    for case in fragkit_cases::ALL {
+    for case in fragkit_cases::all() {
         assert!(listing.contains(case.name), "list lacks {}", case.name);
     }
 }

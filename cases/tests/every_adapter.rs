@@ -17,7 +17,7 @@ fn every_case_on_every_adapter() {
     for adapter in adapters {
         let gpu = Gpu::from_adapter(adapter).unwrap_or_else(|e| panic!("{e:#}"));
         // Opt-in cases (fault injection, soaks) have their own tests.
-        for case in fragkit_cases::ALL.iter().filter(|c| !is_opt_in(c.name)) {
+        for case in fragkit_cases::all().iter().filter(|c| !is_opt_in(c.name)) {
             let record = run_case(&gpu, case, &BTreeMap::new(), &expectations, None);
             eprintln!("{} / {}: {:?} {}", gpu.description.backend, case.name, record.outcome, record.reason);
             if record.outcome.is_failure(false) {

@@ -19,6 +19,7 @@ const FLAKY: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    shaders: &[],
     run: |_| {
         Ok(if FLAKY_CALLS.fetch_add(1, Ordering::SeqCst) == 0 {
             Outcome::Fail("first run".into())
@@ -35,6 +36,7 @@ const BROKEN: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    shaders: &[],
     run: |_| Ok(Outcome::Fail("always".into())),
 };
 

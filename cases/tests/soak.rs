@@ -14,7 +14,7 @@ fn soaks_run_through_resizes_and_reproduce_their_last_frame() {
     let overrides: BTreeMap<String, String> =
         [("frames", "160"), ("resize_every", "20")].map(|(k, v)| (k.to_owned(), v.to_owned())).into();
     let gpu = support::gpu().lock().unwrap_or_else(|e| e.into_inner());
-    for case in fragkit_cases::ALL.iter().filter(|c| c.name.starts_with("soak.")) {
+    for case in fragkit_cases::all().iter().filter(|c| c.name.starts_with("soak.")) {
         let record = run_case(&gpu, case, &overrides, &support::expectations(), None);
         let memory_only = record.reason.starts_with("resident memory grew") && !record.reason.contains(';');
         assert!(

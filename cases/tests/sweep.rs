@@ -17,7 +17,7 @@ const SEED: u64 = 20_261_201;
 
 #[test]
 fn every_declared_range_lies_inside_its_parameter() {
-    for case in fragkit_cases::ALL {
+    for case in fragkit_cases::all() {
         for sweep in case.sweep {
             assert!(
                 case.params.iter().any(|p| p.name == sweep.param),
@@ -39,7 +39,7 @@ fn every_declared_range_lies_inside_its_parameter() {
 fn drawn_parameter_sets_hold() {
     let mut failures = Vec::new();
     // The runs `fragkit check --sweep DRAWS --seed SEED` plans for the cases with ranges.
-    let swept: Vec<&Case> = fragkit_cases::ALL.iter().filter(|c| !c.sweep.is_empty()).collect();
+    let swept: Vec<&Case> = fragkit_cases::all().iter().filter(|c| !c.sweep.is_empty()).collect();
     for run in plan_runs(&swept, &BTreeMap::new(), Some((DRAWS, SEED))) {
         let (record, _) = support::run_with(run.case, &run.overrides);
         let reproduce = reproduce_line("fragkit check", run.case, &run.overrides);

@@ -1,12 +1,14 @@
 //! The headless GPU context: pick an adapter by backend and name, open a device with only the
 //! features that adapter has, and keep its description for reports.
 
+use std::collections::BTreeMap;
 use std::sync::Mutex;
 
 use anyhow::{Context, Result, anyhow, bail};
 use fragkit_report::AdapterDescription;
 
 use crate::query::EncoderClock;
+use crate::shaders::ShaderFile;
 
 /// Which adapter to open. `None` fields fall back to `WGPU_BACKEND` / `WGPU_ADAPTER_NAME`,
 /// the variables wgpu's own utilities honour, then to wgpu's default choice.
@@ -44,11 +46,11 @@ pub struct Gpu {
     clock: Option<Mutex<EncoderClock>>,
     /// Why the device was lost, once it is (set by wgpu's device-lost callback).
     lost: std::sync::Arc<Mutex<Option<String>>>,
-    /// What `probe::fragment_storage` found on this device, once it has run: the plan of every
-    /// CPS renderer and every sample-position sweep asks, and one render answers for the device.
-    pub(crate) fragment_storage: std::sync::OnceLock<Option<String>>,
-    /// What `probe::indirect_draw` found on this device, once it has run (every CPS plan asks).
-    pub(crate) indirect_draw: std::sync::OnceLock<Option<String>>,
+    /// What each device-wide probe found on this device, by the probe's name, once it has run:
+    /// many plans ask, and one render answers for the device ([`Gpu::probed_once`]).
+    device_probes: Mutex<BTreeMap<&'static str, Option<String>>>,
+    /// The shader files modules were built from since [`Gpu::take_shader_files`] last asked.
+    shader_files: Mutex<Vec<ShaderFile>>,
 }
 
 /// A command encoder whose GPU time counts towards the running case.
@@ -199,9 +201,23 @@ impl Gpu {
             queue,
             clock,
             lost,
-            fragment_storage: std::sync::OnceLock::new(),
-            indirect_draw: std::sync::OnceLock::new(),
+            device_probes: Mutex::new(BTreeMap::new()),
+            shader_files: Mutex::new(Vec::new()),
         })
+    }
+
+    /// Notes that a module is being built from `file` (the shader table's modules call it).
+    pub(crate) fn built_from(&self, file: &ShaderFile) {
+        let mut files = self.shader_files.lock().unwrap_or_else(|e| e.into_inner());
+        if !files.contains(file) {
+            files.push(*file);
+        }
+    }
+
+    /// The shader files modules were built from since the last call, in the order first built:
+    /// what a case's pipelines came from.
+    pub fn take_shader_files(&self) -> Vec<ShaderFile> {
+        std::mem::take(&mut *self.shader_files.lock().unwrap_or_else(|e| e.into_inner()))
     }
 
     /// Why the device was lost, or None while it works. Polls first, so that a loss the driver
@@ -220,19 +236,21 @@ impl Gpu {
         self.device.features().contains(features)
     }
 
-    /// A device-wide probe's finding (None: no problem), measured on first use and kept in
-    /// `cell`, with the GL errors the probe met appended as its evidence.
-    pub(crate) fn probed_once(
+    /// The finding of the device-wide probe `name` (None: no problem), measured on first use
+    /// and kept for the device, with the GL errors the probe met appended as its evidence.
+    pub fn probed_once(
         &self,
-        cell: &std::sync::OnceLock<Option<String>>,
+        name: &'static str,
         measure: impl FnOnce(&Self) -> Result<Option<String>>,
     ) -> Result<Option<String>> {
-        if let Some(known) = cell.get() {
+        let probes = || self.device_probes.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(known) = probes().get(name) {
             return Ok(known.clone());
         }
+        // Measured without the lock: a probe may ask another.
         let (problem, raised) = crate::harness::diagnostics::probing(|| measure(self));
         let problem = problem?.map(|problem| crate::harness::diagnostics::with_raised(problem, &raised));
-        Ok(cell.get_or_init(|| problem).clone())
+        Ok(probes().entry(name).or_insert(problem).clone())
     }
 
     /// Waits for all submitted work.

@@ -103,10 +103,6 @@ impl GpuTimer {
         Self { queries, recorded: Vec::new(), period_ns: f64::from(gpu.queue.get_timestamp_period()), untimed: 0 }
     }
 
-    pub fn is_active(&self) -> bool {
-        self.queries.is_some()
-    }
-
     /// Timestamp writes for the next pass, or `None` when the adapter has no timestamps or
     /// the timer is full (that pass then goes untimed rather than failing).
     pub fn pass(&mut self, label: &str) -> Option<wgpu::RenderPassTimestampWrites<'_>> {

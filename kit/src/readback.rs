@@ -67,11 +67,6 @@ impl Texels {
         self.bytes.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect()
     }
 
-    /// The top-left `width` × `height` texels (mip chains are padded beyond the data).
-    pub fn crop(&self, width: u32, height: u32) -> Texels {
-        self.region(0, 0, width, height)
-    }
-
     /// The `width`×`height` texels whose top left is (`x`, `y`).
     pub fn region(&self, x: u32, y: u32, width: u32, height: u32) -> Texels {
         let (texel, stride) = (self.bytes_per_texel as usize, (self.width * self.bytes_per_texel) as usize);

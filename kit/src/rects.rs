@@ -5,7 +5,7 @@ use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
 use crate::gpu::Gpu;
-use crate::shaders;
+use crate::shaders::{self, ShaderFile};
 
 /// A rectangle in framebuffer pixels (origin top-left, y down), half-open: [x0, x1) × [y0, y1).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -87,22 +87,11 @@ impl RectBatch {
 pub enum RectFragment {
     /// No fragment stage: depth/stencil only.
     None,
-    /// The instance colour.
+    /// The instance colour (`shaders/kit/rect.wgsl`).
     InstanceColour,
-    /// `shaders/kit/sample_position.wgsl` (per-sample shading; storage at group 0).
-    SamplePosition,
-    /// `shaders/kit/sample_coverage_record.wgsl` (per-sample coverage; uniform + storage at group 0).
-    SampleCoverageRecord,
-    /// `shaders/kit/alpha_ramp.wgsl` (alpha from the column; binds a uniform at group 0).
-    AlphaRamp,
-    /// `shaders/cbr/sample_id_record.wgsl` (per-sample pixel ids; uniform + storage at group 0).
-    SamplePixelRecord,
-    /// `shaders/cps/stencil_mark.wgsl`'s foveated marks (the level in the instance colour's red;
-    /// uniform at group 0).
-    FoveatedStencilMark,
-    /// `shaders/cps/lighting.wgsl`'s level lighting under the foveated policy (uniforms and
-    /// G-buffer at groups 0 and 1).
-    CpsFoveatedLevelLighting,
+    /// A fragment entry point of another shader file, which the rect's vertex outputs feed
+    /// (`shaders/kit/rect.wgsl`'s `RectOut`): a probe's or a technique's own stage.
+    Shader { file: ShaderFile, entry: &'static str },
 }
 
 /// The fixed-function state of a rect pipeline.
@@ -144,12 +133,7 @@ impl RectPipeline {
         let fragment_file = match self.fragment {
             RectFragment::None => None,
             RectFragment::InstanceColour => Some((shaders::RECT, "fs_instance_colour")),
-            RectFragment::SamplePosition => Some((shaders::SAMPLE_POSITION, "fs_sample_position")),
-            RectFragment::SampleCoverageRecord => Some((shaders::SAMPLE_COVERAGE_RECORD, "fs_record_sample")),
-            RectFragment::AlphaRamp => Some((shaders::ALPHA_RAMP, "fs_alpha_ramp")),
-            RectFragment::SamplePixelRecord => Some((shaders::CBR_SAMPLE_ID_RECORD, "fs_record_sample_pixel")),
-            RectFragment::FoveatedStencilMark => Some((shaders::CPS_STENCIL_MARK, "fs_stencil_mark_foveated")),
-            RectFragment::CpsFoveatedLevelLighting => Some((shaders::CPS_LIGHTING, "fs_light_level_foveated")),
+            RectFragment::Shader { file, entry } => Some((file, entry)),
         };
         let fragment = fragment_file.map(|(file, entry)| (file.module(gpu), entry));
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

@@ -1,4 +1,5 @@
-//! The WGSL sources under `shaders/`. WGSL has no includes, so every pass file is compiled with
+//! The kit's shader table: the WGSL sources under `shaders/`, each with the module that builds
+//! pipelines from it. WGSL has no includes, so every pass file is compiled with
 //! the common snippets prepended; `tests/shaders.rs` validates each assembled module with naga.
 //!
 //! For mutation testing and shader development, `FRAGKIT_SHADER_DIR=<dir>` makes every module read
@@ -19,66 +20,73 @@ pub const COMMON: &[(&str, &str)] = &[
     ("common/foveation.wgsl", include_str!("../../shaders/common/foveation.wgsl")),
 ];
 
-/// One pass's shader file, named by its path under `shaders/`.
-#[derive(Clone, Copy, Debug)]
+/// One pass's shader file, named by its path under `shaders/`, with the module that builds
+/// pipelines from it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ShaderFile {
     pub path: &'static str,
     pub source: &'static str,
+    /// The Rust module whose pipelines use it (`fragkit::cbr::reconstruct`).
+    pub module: &'static str,
 }
 
 macro_rules! shader_files {
-    ($($name:ident => $path:literal),* $(,)?) => {
-        $(pub const $name: ShaderFile = ShaderFile { path: $path, source: include_str!(concat!("../../shaders/", $path)) };)*
+    ($($name:ident => $path:literal in $module:literal),* $(,)?) => {
+        $(pub const $name: ShaderFile = ShaderFile {
+            path: $path,
+            source: include_str!(concat!("../../shaders/", $path)),
+            module: $module,
+        };)*
         /// Every pass file the kit compiles.
         pub const ALL: &[ShaderFile] = &[$($name),*];
     };
 }
 
 shader_files! {
-    RECT => "kit/rect.wgsl",
-    FULLSCREEN => "kit/fullscreen.wgsl",
-    SAMPLE_POSITION => "kit/sample_position.wgsl",
-    SAMPLE_COVERAGE_RECORD => "kit/sample_coverage_record.wgsl",
-    SLOPED_EDGE => "kit/sloped_edge.wgsl",
-    ALPHA_RAMP => "kit/alpha_ramp.wgsl",
-    HEAVY_SHADING => "kit/heavy_shading.wgsl",
-    FRAGMENT_COUNTER => "kit/fragment_counter.wgsl",
-    FRAGMENT_STORAGE => "kit/fragment_storage.wgsl",
-    INDIRECT_DRAW => "kit/indirect_draw.wgsl",
-    NOISE_TRIANGLES => "kit/noise_triangles.wgsl",
-    MIP_FETCH => "kit/mip_fetch.wgsl",
-    HASH_VALUES => "kit/hash_values.wgsl",
-    DEPTH_BITS => "kit/depth_bits.wgsl",
-    GBUFFER => "deferred/gbuffer.wgsl",
-    DEFERRED_LIGHTING => "deferred/lighting.wgsl",
-    CPS_EDGE_MASK => "cps/edge_mask.wgsl",
-    CPS_LOD => "cps/lod.wgsl",
-    CPS_MASK_REDUCE => "cps/mask_reduce.wgsl",
-    CPS_LIGHTING => "cps/lighting.wgsl",
-    CPS_COMPOSITE => "cps/composite.wgsl",
-    CPS_STENCIL_MARK => "cps/stencil_mark.wgsl",
-    TEXARRAY_FETCH => "texarray/fetch.wgsl",
-    CBR_SAMPLE_ID_RECORD => "cbr/sample_id_record.wgsl",
-    CBR_LAYOUT_VALUES => "cbr/layout_values.wgsl",
-    CBR_SCENE => "cbr/scene.wgsl",
-    CBR_SHADE_SAMPLES => "cbr/shade_samples.wgsl",
-    CBR_SHADE_MSAA_SAMPLES => "cbr/shade_msaa_samples.wgsl",
-    CBR_UNPACK_SAMPLES => "cbr/unpack_samples.wgsl",
-    CBR_RECONSTRUCT => "cbr/reconstruct.wgsl",
-    CBR_UPSCALE => "cbr/upscale.wgsl",
-    CBR_TURN_BACK => "cbr/turn_back.wgsl",
-    OIT_QUAD => "oit/quad.wgsl",
-    OIT_NOISE_STEP => "oit/noise_step.wgsl",
-    OIT_STOCHASTIC => "oit/stochastic.wgsl",
-    OIT_SAMPLE_MASK => "oit/sample_mask.wgsl",
-    OIT_PLAIN_COVERAGE => "oit/plain_coverage.wgsl",
-    OIT_SORTED_BLEND => "oit/sorted_blend.wgsl",
-    OIT_WEIGHTED_ACCUMULATE => "oit/weighted_accumulate.wgsl",
-    OIT_WEIGHTED_COMPOSITE => "oit/weighted_composite.wgsl",
-    OIT_PEEL => "oit/peel.wgsl",
-    OIT_UNDER => "oit/under.wgsl",
-    OIT_TEMPORAL => "oit/temporal.wgsl",
-    OIT_BILATERAL => "oit/bilateral.wgsl",
+    RECT => "kit/rect.wgsl" in "fragkit::rects",
+    FULLSCREEN => "kit/fullscreen.wgsl" in "fragkit::fullscreen",
+    SAMPLE_POSITION => "kit/sample_position.wgsl" in "fragkit::probe::sample_positions",
+    SAMPLE_COVERAGE_RECORD => "kit/sample_coverage_record.wgsl" in "fragkit::probe::sample_positions",
+    SLOPED_EDGE => "kit/sloped_edge.wgsl" in "fragkit::probe::subpixel_precision",
+    ALPHA_RAMP => "kit/alpha_ramp.wgsl" in "fragkit::probe::alpha_to_coverage",
+    HEAVY_SHADING => "kit/heavy_shading.wgsl" in "fragkit::probe::stencil_gated_draw",
+    FRAGMENT_COUNTER => "kit/fragment_counter.wgsl" in "fragkit::probe::stencil_gated_draw",
+    FRAGMENT_STORAGE => "kit/fragment_storage.wgsl" in "fragkit::probe::fragment_storage",
+    INDIRECT_DRAW => "kit/indirect_draw.wgsl" in "fragkit::probe::indirect_draw",
+    NOISE_TRIANGLES => "kit/noise_triangles.wgsl" in "fragkit-cases kit::determinism",
+    MIP_FETCH => "kit/mip_fetch.wgsl" in "fragkit::probe::mip_fetch",
+    HASH_VALUES => "kit/hash_values.wgsl" in "fragkit::probe::hash_values",
+    DEPTH_BITS => "kit/depth_bits.wgsl" in "fragkit::readback",
+    GBUFFER => "deferred/gbuffer.wgsl" in "fragkit::deferred::gbuffer",
+    DEFERRED_LIGHTING => "deferred/lighting.wgsl" in "fragkit::deferred::lighting",
+    CPS_EDGE_MASK => "cps/edge_mask.wgsl" in "fragkit::cps::renderer",
+    CPS_LOD => "cps/lod.wgsl" in "fragkit::cps::renderer",
+    CPS_MASK_REDUCE => "cps/mask_reduce.wgsl" in "fragkit::cps::targets",
+    CPS_LIGHTING => "cps/lighting.wgsl" in "fragkit::cps::renderer",
+    CPS_COMPOSITE => "cps/composite.wgsl" in "fragkit::cps::renderer",
+    CPS_STENCIL_MARK => "cps/stencil_mark.wgsl" in "fragkit::cps::stencil_marks",
+    TEXARRAY_FETCH => "texarray/fetch.wgsl" in "fragkit::texarray",
+    CBR_SAMPLE_ID_RECORD => "cbr/sample_id_record.wgsl" in "fragkit::cbr::sampling",
+    CBR_LAYOUT_VALUES => "cbr/layout_values.wgsl" in "fragkit::cbr::layout_values",
+    CBR_SCENE => "cbr/scene.wgsl" in "fragkit::cbr::scene_pass",
+    CBR_SHADE_SAMPLES => "cbr/shade_samples.wgsl" in "fragkit::cbr::frame",
+    CBR_SHADE_MSAA_SAMPLES => "cbr/shade_msaa_samples.wgsl" in "fragkit::cbr::frame",
+    CBR_UNPACK_SAMPLES => "cbr/unpack_samples.wgsl" in "fragkit::cbr::frame",
+    CBR_RECONSTRUCT => "cbr/reconstruct.wgsl" in "fragkit::cbr::reconstruct",
+    CBR_UPSCALE => "cbr/upscale.wgsl" in "fragkit::cbr::renderer",
+    CBR_TURN_BACK => "cbr/turn_back.wgsl" in "fragkit::cbr::renderer",
+    OIT_QUAD => "oit/quad.wgsl" in "fragkit::oit::stochastic",
+    OIT_NOISE_STEP => "oit/noise_step.wgsl" in "fragkit::oit::stochastic",
+    OIT_STOCHASTIC => "oit/stochastic.wgsl" in "fragkit::oit::stochastic",
+    OIT_SAMPLE_MASK => "oit/sample_mask.wgsl" in "fragkit::oit::stochastic",
+    OIT_PLAIN_COVERAGE => "oit/plain_coverage.wgsl" in "fragkit::oit::methods",
+    OIT_SORTED_BLEND => "oit/sorted_blend.wgsl" in "fragkit::oit::methods",
+    OIT_WEIGHTED_ACCUMULATE => "oit/weighted_accumulate.wgsl" in "fragkit::oit::methods",
+    OIT_WEIGHTED_COMPOSITE => "oit/weighted_composite.wgsl" in "fragkit::oit::methods",
+    OIT_PEEL => "oit/peel.wgsl" in "fragkit::oit::methods",
+    OIT_UNDER => "oit/under.wgsl" in "fragkit::oit::methods",
+    OIT_TEMPORAL => "oit/temporal.wgsl" in "fragkit::oit::filter",
+    OIT_BILATERAL => "oit/bilateral.wgsl" in "fragkit::oit::filter",
 }
 
 pub use fragkit_report::run_info::SHADER_DIR_ENV;
@@ -131,6 +139,7 @@ impl ShaderFile {
 
     /// This file's module compiled from `source`: its assembled text, changed for the device.
     pub fn module_from(&self, gpu: &Gpu, source: String) -> wgpu::ShaderModule {
+        gpu.built_from(self);
         gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(self.path),
             source: wgpu::ShaderSource::Wgsl(source.into()),

@@ -3,7 +3,7 @@
 //! centre is exact in f32 and the division is within 2.5 ulps, so the only rounding that can
 //! reach the 8-bit target is the float-to-unorm conversion: one step either way.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use fragkit::attachments;
 use fragkit::fullscreen::uniform_buffer;
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
@@ -15,12 +15,13 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[ParamSpec {
         name: "size",
-        kind: ParamKind::Sizes,
+        kind: ParamKind::Size,
         default: "64x48",
-        help: "target size (the first of the list)",
+        help: "target size",
     }],
     sweep: &[],
     budget_s: 1,
+    shaders: &[],
     run,
 };
 
@@ -31,7 +32,7 @@ const TOLERANCE: u8 = 1;
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     // Setup: an 8-bit target and the pass's pipeline.
-    let (width, height) = *ctx.params.sizes("size")?.first().context("size: no size given")?;
+    let (width, height) = ctx.params.size("size")?;
     let gpu = ctx.gpu;
     let target = gpu.texture(
         "gradient target",

@@ -3,21 +3,24 @@
 //! through the kit's runner — each in a child process, known issues applied — and writes a
 //! report in the kit's format, which `fragkit compare`, `html` and `import` read like any other.
 
-mod fault_abort;
-mod gradient;
-
 use std::process::ExitCode;
+use std::sync::OnceLock;
 
 use fragkit::harness::Case;
+use fragkit::harness::registry::join;
 use fragkit::harness::suite::Suite;
 
-/// The suite's cases, in run order; `fault.*` ones only when a pattern names them.
-const CASES: &[Case] = &[gradient::CASE, fault_abort::CASE];
+// The suite's case files and their cases, in run order (`fault.*` only when a pattern names them).
+fragkit::cases! {
+    gradient: CASE;
+    fault_abort: CASE;
+}
 
 fn main() -> ExitCode {
+    static REGISTRY: OnceLock<Vec<Case>> = OnceLock::new();
     Suite {
         name: "fragkit-example-suite",
-        cases: CASES,
+        cases: join(&REGISTRY, &[CASES]),
         expectations: include_str!("../expectations.toml"),
         expectations_origin: "cases/example-suite/expectations.toml",
     }

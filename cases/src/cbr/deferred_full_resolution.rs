@@ -21,8 +21,9 @@ use anyhow::Result;
 use fragkit::cbr::scene::{Motion, textured_corridor};
 use fragkit::cbr::{FullResolutionScene, Orientation, Shading};
 use fragkit::deferred::phong::{PhongComparison, ShadedSample, Surface, shade};
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
 use fragkit::readback::{read_depth, read_texture};
+use fragkit::shaders::{CBR_SCENE, CBR_SHADE_SAMPLES, CBR_TURN_BACK, DEPTH_BITS, FULLSCREEN};
 use glam::{DMat4, DVec3, DVec4};
 
 pub const CASE: Case = Case {
@@ -30,7 +31,7 @@ pub const CASE: Case = Case {
     summary: "the deferred full-resolution baseline shades each pixel's G-buffer sample at its own centre",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec { name: "size", kind: ParamKind::SizesFrom(1), default: "96x64", help: "screen size" },
+        ParamSpec { name: "size", kind: ParamKind::SizeFrom(1), default: "96x64", help: "screen size" },
         ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "32", help: "point lights" },
     ],
     sweep: &[
@@ -38,6 +39,7 @@ pub const CASE: Case = Case {
         Sweep { param: "lights", range: SweepRange::Count(1, 4096) },
     ],
     budget_s: 1,
+    shaders: &[FULLSCREEN, DEPTH_BITS, CBR_SCENE, CBR_SHADE_SAMPLES, CBR_TURN_BACK],
     run,
 };
 
@@ -70,12 +72,12 @@ fn f32x4(v: DVec3, w: f32) -> [f32; 4] {
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = ctx.params.sizes("size")?[0];
-    let lights = u32::try_from(ctx.params.count("lights")?)?;
+    let size = ctx.params.size("size")?;
+    let lights = ctx.params.count_u32("lights")?;
     let mut scene = textured_corridor(5, lights, Motion::Static);
     scene.draws.retain(|draw| !draw.transparent);
 
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     // Upright, and turned a quarter as the offset passes draw (the bench's baseline): there
     // upright pixel (x, y) sits at texel (y, W − 1 − x) of an H-wide target.
     for orientation in [Orientation::Upright, Orientation::Turned] {
@@ -143,7 +145,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         ctx.metric(&metric("worst_error_in_bounds"), comparison.worst);
         if comparison.wrong_count > 0 {
             ctx.evidence_image(&format!("comparison_{name}"), &comparison.evidence(size, &expected, &colour)?)?;
-            problems.push(format!(
+            verdict.fail(format!(
                 "{name}: {} of {} pixels differ from the CPU Phong at their own centre beyond the bound (worst {:.1}x)",
                 comparison.wrong_count,
                 size.0 * size.1,
@@ -151,5 +153,5 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             ));
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

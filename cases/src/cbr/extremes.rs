@@ -12,7 +12,8 @@ use fragkit::cbr::measure::{ComparedFrame, measure_against, render_with_referenc
 use fragkit::cbr::sampling::{CheckerboardPath, sampled_pixels};
 use fragkit::cbr::scene::flat_rects;
 use fragkit::cbr::{CheckerboardConfig, PixelSource, Shading};
-use fragkit::harness::{Case, Ctx, Outcome};
+use fragkit::harness::{Case, Ctx, Outcome, Verdict};
+use fragkit::shaders::{CBR_RECONSTRUCT, CBR_SCENE, CBR_SHADE_MSAA_SAMPLES, CBR_SHADE_SAMPLES, CBR_UNPACK_SAMPLES, FRAGMENT_STORAGE, FULLSCREEN, RECT, SAMPLE_COVERAGE_RECORD};
 use glam::Vec2;
 
 pub const CASE: Case = Case {
@@ -22,13 +23,14 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 4,
+    shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE, CBR_SCENE, CBR_SHADE_SAMPLES, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, CBR_RECONSTRUCT],
     run,
 };
 
-fn check_finite(key: &str, image: &[f32], problems: &mut Vec<String>) {
+fn check_finite(key: &str, image: &[f32], verdict: &mut Verdict) {
     let bad = image.chunks_exact(4).filter(|t| t.iter().any(|v| !v.is_finite())).count();
     if bad > 0 {
-        problems.push(format!("{key}: {bad} pixels NaN or infinite"));
+        verdict.fail(format!("{key}: {bad} pixels NaN or infinite"));
     }
 }
 
@@ -88,7 +90,7 @@ fn fills_off_definition(screen: (u32, u32), result: &[f32], sources: &[PixelSour
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let path = CheckerboardPath::for_adapter(ctx.gpu);
     ctx.metric("path", path.name());
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
 
     for shading in Shading::ALL {
         // Tiny and odd screens, static: exact but for the gap column.
@@ -99,9 +101,9 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 render_with_reference(ctx.gpu, &scene, CheckerboardConfig::new(screen, path, shading), 2)?;
             let (error, _) = measure_against(screen, &result, &reference, 0)?;
             ctx.metric(&key, error.inexact_pixels);
-            check_finite(&key, &result, &mut problems);
+            check_finite(&key, &result, &mut verdict);
             if error.inexact_pixels > 0 {
-                problems.push(format!("{key}: {} pixels differ from full resolution", error.inexact_pixels));
+                verdict.fail(format!("{key}: {} pixels differ from full resolution", error.inexact_pixels));
             }
         }
 
@@ -124,9 +126,9 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             &key,
             serde_json::json!({"first_frame_fills": first, "misclassified": wrong, "fills_off_definition": wrong_fills}),
         );
-        check_finite(&key, &result, &mut problems);
+        check_finite(&key, &result, &mut verdict);
         if wrong > 0 || first != sampled.iter().filter(|s| !**s).count() || wrong_fills > 0 {
-            problems.push(format!(
+            verdict.fail(format!(
                 "{key}: {wrong} pixels misclassified, {first} first-frame fills, {wrong_fills} fills off their definition"
             ));
         }
@@ -138,10 +140,10 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let history = sources.iter().filter(|s| **s == PixelSource::History).count();
         let off_screen = sources.iter().filter(|s| **s == PixelSource::OffScreen).count();
         ctx.metric(&key, serde_json::json!({"history": history, "off_screen": off_screen}));
-        check_finite(&key, &result, &mut problems);
+        check_finite(&key, &result, &mut verdict);
         let unsampled = sampled_pixels(screen, 0).iter().filter(|s| !**s).count();
         if history > 0 || off_screen != unsampled {
-            problems.push(format!(
+            verdict.fail(format!(
                 "{key}: {history} pixels from history, {off_screen} off-screen fills (expected {unsampled})"
             ));
         }
@@ -154,10 +156,10 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let ComparedFrame { result, reference, .. } = render_with_reference(ctx.gpu, &scene, config, 3)?;
         let (error, _) = measure_against(screen, &result, &reference, 0)?;
         ctx.metric(&key, error.inexact_pixels);
-        check_finite(&key, &result, &mut problems);
+        check_finite(&key, &result, &mut verdict);
         if error.inexact_pixels > 0 {
-            problems.push(format!("{key}: {} background pixels changed", error.inexact_pixels));
+            verdict.fail(format!("{key}: {} background pixels changed", error.inexact_pixels));
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

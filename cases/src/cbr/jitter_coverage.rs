@@ -6,7 +6,8 @@
 use anyhow::Result;
 use fragkit::cbr::probe::measure_landing;
 use fragkit::cbr::sampling::{CheckerboardPath, check_screen, documented_gaps};
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
+use fragkit::shaders::{CBR_SAMPLE_ID_RECORD, FRAGMENT_STORAGE, FULLSCREEN, RECT, SAMPLE_COVERAGE_RECORD};
 
 pub const CASE: Case = Case {
     name: "cbr.jitter.coverage",
@@ -20,13 +21,14 @@ pub const CASE: Case = Case {
     }],
     sweep: &[Sweep { param: "sizes", range: SweepRange::Size { min: (2, 2), max: (400, 300) } }],
     budget_s: 1,
+    shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE, CBR_SAMPLE_ID_RECORD],
     run,
 };
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let path = CheckerboardPath::for_adapter(ctx.gpu);
     ctx.metric("path", path.name());
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for screen in ctx.params.sizes("sizes")? {
         check_screen(screen)?;
         let mut hits = vec![0u32; (screen.0 * screen.1) as usize];
@@ -51,8 +53,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let key = format!("{}x{}", screen.0, screen.1);
         ctx.metric(&key, serde_json::json!({"missed": missed, "hit_more_than_once": twice, "documented_gaps": gaps.len(), "gaps_hit": gap_hits}));
         if missed + twice + gap_hits > 0 {
-            problems.push(format!("{key}: {missed} pixels never sampled, {twice} sampled more than once, {gap_hits} documented gaps sampled"));
+            verdict.fail(format!("{key}: {missed} pixels never sampled, {twice} sampled more than once, {gap_hits} documented gaps sampled"));
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

@@ -9,7 +9,8 @@ use anyhow::Result;
 use fragkit::cbr::frame::layout_size;
 use fragkit::cbr::layout_values::evaluate_layout;
 use fragkit::cbr::sampling::{check_screen, quarter_size, sample_pixel, sample_positions};
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
+use fragkit::shaders::{CBR_LAYOUT_VALUES, FULLSCREEN};
 
 pub const CASE: Case = Case {
     name: "cbr.layout.mapping",
@@ -23,6 +24,7 @@ pub const CASE: Case = Case {
     }],
     sweep: &[Sweep { param: "sizes", range: SweepRange::Size { min: (2, 2), max: (400, 300) } }],
     budget_s: 1,
+    shaders: &[FULLSCREEN, CBR_LAYOUT_VALUES],
     run,
 };
 
@@ -36,7 +38,7 @@ fn mismatches<T: PartialEq + std::fmt::Debug>(got: &[T], defined: &[T], width: u
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let positions = sample_positions();
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for screen in ctx.params.sizes("sizes")? {
         check_screen(screen)?;
         let quarter = quarter_size(screen);
@@ -63,7 +65,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             ctx.metric(&format!("{name}.wrong_centres"), centre_errors.len());
             for (what, errors) in [("pixels", pixel_errors), ("texel centres", centre_errors)] {
                 if !errors.is_empty() {
-                    problems.push(format!(
+                    verdict.fail(format!(
                         "{name}: {} {what} wrong, e.g. {}",
                         errors.len(),
                         errors[..errors.len().min(2)].join(", ")
@@ -72,5 +74,5 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             }
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

@@ -1,11 +1,13 @@
 //! `cbr.*`: checkerboard rendering.
 
-pub mod deferred_full_resolution;
-pub mod exact_sources;
-pub mod extremes;
-pub mod jitter_coverage;
-pub mod layout_mapping;
-pub mod reconstruct_moving;
-pub mod reconstruct_static;
-pub mod sample_quadrants;
-pub mod upscale_bilinear;
+fragkit::cases! {
+    layout_mapping: CASE;
+    sample_quadrants: CASE;
+    jitter_coverage: CASE;
+    reconstruct_static: CASE;
+    reconstruct_moving: CASE;
+    reconstruct_exact_sources: CASE;
+    extremes: CASE;
+    deferred_full_resolution: CASE;
+    upscale_bilinear: CASE;
+}

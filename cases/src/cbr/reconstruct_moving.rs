@@ -19,7 +19,8 @@ use fragkit::cbr::model_comparison::Comparison;
 use fragkit::cbr::sampling::{CheckerboardPath, sampled_pixels};
 use fragkit::cbr::scene::{CameraMotion, Motion, PixelRect, pixel_rect_scene, seeded_rects, textured_corridor};
 use fragkit::cbr::{Checkerboard, CheckerboardConfig, Detection, PixelSource, Shading};
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
+use fragkit::shaders::{CBR_RECONSTRUCT, CBR_SCENE, CBR_SHADE_MSAA_SAMPLES, CBR_SHADE_SAMPLES, CBR_UNPACK_SAMPLES, CBR_UPSCALE, FRAGMENT_STORAGE, FULLSCREEN, RECT, SAMPLE_COVERAGE_RECORD};
 use glam::{Vec2, Vec3};
 
 pub const CASE: Case = Case {
@@ -29,7 +30,7 @@ pub const CASE: Case = Case {
     params: &[
         ParamSpec {
             name: "size",
-            kind: ParamKind::SizesFrom(8),
+            kind: ParamKind::SizeFrom(8),
             default: "96x64",
             help: "screen size, at least 8x8 (smaller screens are nearly all border, where neither the fill nor the history has its neighbours; cbr.extremes covers them)",
         },
@@ -47,6 +48,7 @@ pub const CASE: Case = Case {
         Sweep { param: "frames", range: SweepRange::Count(2, 8) },
     ],
     budget_s: 15,
+    shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE, CBR_SCENE, CBR_SHADE_SAMPLES, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, CBR_RECONSTRUCT, CBR_UPSCALE],
     run,
 };
 
@@ -160,10 +162,10 @@ fn held_to_model(
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let path = CheckerboardPath::for_adapter(ctx.gpu);
     ctx.metric("path", path.name());
-    let screen = ctx.params.sizes("size")?[0];
-    let lights = u32::try_from(ctx.params.count("lights")?)?;
-    let frames = u32::try_from(ctx.params.count("frames")?)?.max(2);
-    let mut problems = Vec::new();
+    let screen = ctx.params.size("size")?;
+    let lights = ctx.params.count_u32("lights")?;
+    let frames = ctx.params.count_u32("frames")?.max(2);
+    let mut verdict = Verdict::new();
     for (shading, sequence) in Shading::ALL.into_iter().flat_map(|s| SEQUENCES.iter().map(move |q| (s, q))) {
         let scene = textured_corridor(5, lights, sequence.motion);
         let name = format!("{}.{}", shading.name(), sequence.motion.name());
@@ -171,7 +173,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let mut from_history = 0;
         let mut reference = Vec::new();
         let mut cso_evidence = None;
-        let problems_before = problems.len();
+        let problems_before = verdict.problems().len();
         for detection in [Detection::DEFAULT_CSO, Detection::Aso] {
             let config = CheckerboardConfig { detection, ..CheckerboardConfig::new(screen, path, shading) };
             let frame = render_with_reference(ctx.gpu, &scene, config, frames)?;
@@ -183,7 +185,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 serde_json::json!({"psnr_db": error.psnr_db, "flip": error.flip, "sources": counts, "passes": frame.passes}),
             );
             if frame.passes != frame.planned {
-                problems.push(format!("{key}: recorded passes {:?}, the plan lists {:?}", frame.passes, frame.planned));
+                verdict.fail(format!("{key}: recorded passes {:?}, the plan lists {:?}", frame.passes, frame.planned));
             }
             if detection == Detection::DEFAULT_CSO {
                 cso = error.psnr_db;
@@ -192,7 +194,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 reference = frame.reference;
             }
             if error.non_finite_pixels > 0 {
-                problems.push(format!("{key}: {} non-finite pixels", error.non_finite_pixels));
+                verdict.fail(format!("{key}: {} non-finite pixels", error.non_finite_pixels));
             }
             if let Motion::Pan(pan) = sequence.motion
                 && pan.fract() == Vec2::ZERO
@@ -207,7 +209,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 // Depth checks may refuse history near edges; count those as history for the mapping.
                 *got.get_mut("history").expect("listed") += std::mem::take(got.get_mut("disoccluded").expect("listed"));
                 if got != expected {
-                    problems.push(format!("{key}: pixel sources {got:?}, the CPU mapping predicts {expected:?}"));
+                    verdict.fail(format!("{key}: pixel sources {got:?}, the CPU mapping predicts {expected:?}"));
                 }
             }
         }
@@ -215,7 +217,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let (flat, tally) = held_to_model(ctx, &name, sequence.motion, config, frames)?;
         ctx.metric(&format!("{name}.flat_model"), &tally);
         if !flat.is_empty() {
-            problems.push(format!(
+            verdict.fail(format!(
                 "{name}: on flat rects {} pixels differ from the CPU model, e.g. {}",
                 flat.len(),
                 flat[..flat.len().min(3)].join("; ")
@@ -226,18 +228,18 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         ctx.metric(&format!("{name}.upscale_psnr_db"), upscale_db);
         ctx.metric(&format!("{name}.without_history_psnr_db"), alone_db);
         if sequence.history_exact && !SameFrameReferences::beats(cso, upscale_db) {
-            problems.push(format!(
+            verdict.fail(format!(
                 "{name}: CSO ({cso:.2} dB) does not beat the upscaled quarter resolution ({upscale_db:.2} dB)"
             ));
         }
         if sequence.history_exact && from_history > 0 && !SameFrameReferences::beats(cso, alone_db) {
-            problems.push(format!(
+            verdict.fail(format!(
                 "{name}: CSO ({cso:.2} dB) does not beat the same frame without history ({alone_db:.2} dB)"
             ));
         }
-        if let Some((key, evidence)) = cso_evidence.filter(|_| problems.len() > problems_before) {
+        if let Some((key, evidence)) = cso_evidence.filter(|_| verdict.problems().len() > problems_before) {
             ctx.evidence_image(&key, &evidence)?;
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

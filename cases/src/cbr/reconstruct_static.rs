@@ -17,7 +17,8 @@ use fragkit::cbr::sampling::{CheckerboardPath, documented_gaps};
 use fragkit::cbr::scene::{Motion, flat_rects, textured_corridor};
 use fragkit::cbr::scene_pass::TextureLod;
 use fragkit::cbr::{CheckerboardConfig, Shading};
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
+use fragkit::shaders::{CBR_RECONSTRUCT, CBR_SCENE, CBR_SHADE_MSAA_SAMPLES, CBR_SHADE_SAMPLES, CBR_UNPACK_SAMPLES, CBR_UPSCALE, FRAGMENT_STORAGE, FULLSCREEN, RECT, SAMPLE_COVERAGE_RECORD};
 use glam::Vec2;
 
 pub const CASE: Case = Case {
@@ -45,6 +46,7 @@ pub const CASE: Case = Case {
         Sweep { param: "lights", range: SweepRange::Count(1, 4096) },
     ],
     budget_s: 4,
+    shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE, CBR_SCENE, CBR_SHADE_SAMPLES, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, CBR_RECONSTRUCT, CBR_UPSCALE],
     run,
 };
 
@@ -60,8 +62,8 @@ const DISPLAY_TOLERANCE: u8 = 8;
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let path = CheckerboardPath::for_adapter(ctx.gpu);
     ctx.metric("path", path.name());
-    let lights = u32::try_from(ctx.params.count("lights")?)?;
-    let mut problems = Vec::new();
+    let lights = ctx.params.count_u32("lights")?;
+    let mut verdict = Verdict::new();
     for shading in Shading::ALL {
         for screen in ctx.params.sizes("sizes")? {
             let key = format!("{}.flat.{}x{}", shading.name(), screen.0, screen.1);
@@ -74,7 +76,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             ctx.metric(&key, serde_json::json!({"inexact_pixels": error.inexact_pixels, "sources": counts}));
             if error.inexact_pixels > 0 {
                 ctx.evidence_image(&key, &evidence)?;
-                problems.push(format!(
+                verdict.fail(format!(
                     "{key}: {} of {} pixels differ from full resolution",
                     error.inexact_pixels, error.compared_pixels
                 ));
@@ -82,7 +84,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             // Static: only the gap column lacks a sample in both frames.
             let gaps = documented_gaps(screen).len() as u64;
             if filled != gaps {
-                problems.push(format!("{key}: {filled} pixels filled from neighbours, expected the {gaps} gap pixels"));
+                verdict.fail(format!("{key}: {filled} pixels filled from neighbours, expected the {gaps} gap pixels"));
             }
         }
         let screen = ctx.params.sizes("corridor_size")?[0];
@@ -103,7 +105,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let (biased_error, _) = measure_against(screen, &biased_frame.result, &frame.reference, DISPLAY_TOLERANCE)?;
         ctx.metric(&format!("{key}.lod_bias_-0.5_psnr_db"), biased_error.psnr_db);
         if screen.0.min(screen.1) >= LOD_CLAIM_MIN_SIDE && biased_error.psnr_db >= error.psnr_db {
-            problems.push(format!(
+            verdict.fail(format!(
                 "{key}: LOD bias -0.5 ({:.2} dB) is not worse than exact gradients ({:.2} dB)",
                 biased_error.psnr_db, error.psnr_db
             ));
@@ -128,7 +130,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             .collect();
         if !beaten.is_empty() || error.non_finite_pixels > 0 {
             ctx.evidence_image(&key, &evidence)?;
-            problems.push(format!(
+            verdict.fail(format!(
                 "{key}: PSNR {:.2} dB does not beat {}; {} non-finite pixels",
                 error.psnr_db,
                 if beaten.is_empty() { "-".into() } else { beaten.join(", ") },
@@ -136,5 +138,5 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             ));
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

@@ -6,7 +6,8 @@
 use anyhow::Result;
 use fragkit::cbr::probe::measure_landing;
 use fragkit::cbr::sampling::{CheckerboardPath, check_screen, quarter_size, sample_pixel, sample_positions};
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
+use fragkit::shaders::{CBR_SAMPLE_ID_RECORD, FRAGMENT_STORAGE, FULLSCREEN, RECT, SAMPLE_COVERAGE_RECORD};
 
 pub const CASE: Case = Case {
     name: "cbr.sample_quadrants",
@@ -20,6 +21,7 @@ pub const CASE: Case = Case {
     }],
     sweep: &[Sweep { param: "sizes", range: SweepRange::Size { min: (2, 2), max: (300, 200) } }],
     budget_s: 1,
+    shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE, CBR_SAMPLE_ID_RECORD],
     run,
 };
 
@@ -27,7 +29,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let path = CheckerboardPath::for_adapter(ctx.gpu);
     ctx.metric("path", path.name());
     let positions = sample_positions();
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for screen in ctx.params.sizes("sizes")? {
         check_screen(screen)?;
         let quarter = quarter_size(screen);
@@ -48,7 +50,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             }
             ctx.metric(&format!("{}x{}.phase{phase}.wrong_samples", screen.0, screen.1), wrong.len());
             if !wrong.is_empty() {
-                problems.push(format!(
+                verdict.fail(format!(
                     "{}x{} phase {phase}: {} samples misplaced, e.g. {}",
                     screen.0,
                     screen.1,
@@ -58,5 +60,5 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             }
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

@@ -16,14 +16,16 @@ use fragkit::cbr::scene::{Motion, textured_corridor};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::image_compare::{error_mask, side_by_side};
 use fragkit::tonemap::to_display;
+use fragkit::shaders::{CBR_SCENE, CBR_UPSCALE, FULLSCREEN};
 
 pub const CASE: Case = Case {
     name: "cbr.upscale.bilinear",
     summary: "the half-resolution baseline is the bilinear upscale of its quarter-resolution image",
     requires: wgpu::Features::empty(),
-    params: &[ParamSpec { name: "size", kind: ParamKind::SizesFrom(2), default: "96x64", help: "screen size" }],
+    params: &[ParamSpec { name: "size", kind: ParamKind::SizeFrom(2), default: "96x64", help: "screen size" }],
     sweep: &[Sweep { param: "size", range: SweepRange::Size { min: (2, 2), max: (200, 150) } }],
     budget_s: 1,
+    shaders: &[FULLSCREEN, CBR_SCENE, CBR_UPSCALE],
     run,
 };
 
@@ -41,7 +43,7 @@ fn taps(p: u32, quarter: u32) -> (usize, usize, f64) {
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = ctx.params.sizes("size")?[0];
+    let size = ctx.params.size("size")?;
     let scene = textured_corridor(5, 16, Motion::Static);
     let mut upscale = HalfResolutionUpscale::new(ctx.gpu, &scene, size)?;
     upscale.render(ctx.gpu, 0)?;

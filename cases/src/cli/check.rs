@@ -134,7 +134,7 @@ fn check_writable(path: &Path) -> Result<()> {
 
 pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Result<ExitCode> {
     // Check every input before touching the GPU.
-    let cases = select(fragkit_cases::ALL, &args.patterns)?;
+    let cases = select(fragkit_cases::all(), &args.patterns)?;
     let overrides = parse_overrides(&args.sets)?;
     check_overrides(&cases, &overrides)?;
     let shard = args.shard.as_deref().map(Shard::parse).transpose()?;
@@ -237,7 +237,7 @@ fn failed_runs(path: &Path, flaky_fails: bool) -> Result<Vec<CaseRun<'static>>> 
     let report = Report::read(path)?;
     let mut runs = Vec::new();
     for record in report.cases.iter().filter(|c| c.outcome.is_failure(flaky_fails)) {
-        let case = fragkit_cases::ALL
+        let case = fragkit_cases::all()
             .iter()
             .find(|c| c.name == record.name)
             .with_context(|| format!("{}: case {} is not one of this kit's", path.display(), record.name))?;

@@ -46,7 +46,8 @@ pub enum Command {
     Adapters(adapters::AdaptersArgs),
     /// Measure the selected adapter's capabilities with tiny renders.
     Caps(caps::CapsArgs),
-    /// List cases with their parameters and requirements.
+    /// List cases with their parameters and requirements (-v: the shader files each case's
+    /// pipelines are built from, and the module that builds each).
     List { pattern: Option<String> },
     /// Render a technique's intermediates and results as PNGs for a person to look at.
     Render {

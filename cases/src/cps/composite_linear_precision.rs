@@ -12,9 +12,10 @@ use anyhow::Result;
 use fragkit::cps::lod_model::nested_random;
 use fragkit::cps::reference::{CompositeInputs, sampled_levels};
 use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy};
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
 use fragkit::image_compare::{error_mask, side_by_side};
 use fragkit::tonemap::to_display;
+use fragkit::shaders::{CPS_COMPOSITE, CPS_EDGE_MASK, CPS_LIGHTING, CPS_LOD, CPS_MASK_REDUCE, CPS_STENCIL_MARK, FRAGMENT_STORAGE, FULLSCREEN, GBUFFER, INDIRECT_DRAW, RECT};
 
 use super::{corridor_inputs, frame};
 
@@ -23,9 +24,9 @@ pub const CASE: Case = Case {
     summary: "the seam-free composite reproduces shading linear in screen position at every pixel between samples",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec { name: "size", kind: ParamKind::Sizes, default: "96x64", help: "screen size" },
+        ParamSpec { name: "size", kind: ParamKind::Size, default: "96x64", help: "screen size" },
         ParamSpec { name: "max_level", kind: ParamKind::CountIn(1, 8), default: "4", help: "coarsest level" },
-        ParamSpec { name: "seed", kind: ParamKind::Count, default: "1", help: "seed of the LOD of whole blocks" },
+        ParamSpec { name: "seed", kind: ParamKind::CountIn(0, u32::MAX as u64), default: "1", help: "seed of the LOD of whole blocks" },
     ],
     sweep: &[
         Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (200, 150) } },
@@ -33,6 +34,7 @@ pub const CASE: Case = Case {
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 2,
+    shaders: &[RECT, FULLSCREEN, FRAGMENT_STORAGE, INDIRECT_DRAW, GBUFFER, CPS_EDGE_MASK, CPS_LOD, CPS_MASK_REDUCE, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
 };
 
@@ -46,9 +48,9 @@ fn shading(screen: (u32, u32), p: [i64; 2]) -> [f32; 4] {
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = ctx.params.sizes("size")?[0];
-    let max_level = u32::try_from(ctx.params.count("max_level")?)?;
-    let seed = u32::try_from(ctx.params.count("seed")? & 0xffff_ffff)?;
+    let size = ctx.params.size("size")?;
+    let max_level = ctx.params.count_u32("max_level")?;
+    let seed = ctx.params.count_u32("seed")?;
     let inputs = corridor_inputs(ctx.gpu, size, 16, 2)?;
     let width = i64::from(size.0);
     let pixel_at = |i: usize| [i as i64 % width, i as i64 / width];
@@ -58,7 +60,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         ("foveated", LodPolicy::Foveated { focus: (0.4, 0.5), inner_radius: 5.0 }),
         ("whole_blocks", LodPolicy::Explicit(nested_random(size, max_level, seed))),
     ];
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for (name, policy) in policies {
         for composite in [CompositeMode::SeamFree, CompositeMode::FourNeighbour] {
             // Setup and render: the policy's LOD, then the composite of linear shading over it.
@@ -115,11 +117,11 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 let expected = to_display(size.0, size.1, &expected)?;
                 let result = to_display(size.0, size.1, &image)?;
                 ctx.evidence_image(&label, &side_by_side(&result, &expected, &error_mask(&expected, &wrong)))?;
-                problems.push(format!(
+                verdict.fail(format!(
                     "{name}: {wrong_count} pixels between samples depart from the linear shading beyond their bound (worst {worst:.5})"
                 ));
             }
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

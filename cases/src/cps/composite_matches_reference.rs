@@ -12,8 +12,9 @@ use anyhow::Result;
 use fragkit::cps::reference::{CompositeInputs, Level, seam_error};
 use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy};
 use fragkit::deferred::lighting::light_full_resolution;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
 use fragkit::readback::read_texture;
+use fragkit::shaders::{CPS_COMPOSITE, CPS_LIGHTING, CPS_LOD, CPS_MASK_REDUCE, CPS_STENCIL_MARK, DEFERRED_LIGHTING, FRAGMENT_STORAGE, FULLSCREEN, GBUFFER, INDIRECT_DRAW, RECT};
 
 use super::{corridor_inputs, frame, random_lod};
 
@@ -22,7 +23,7 @@ pub const CASE: Case = Case {
     summary: "the three GPU composites equal their CPU equations within their derived f16 bounds",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec { name: "size", kind: ParamKind::Sizes, default: "64x48", help: "screen size" },
+        ParamSpec { name: "size", kind: ParamKind::Size, default: "64x48", help: "screen size" },
         ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "24", help: "point lights" },
         ParamSpec { name: "max_level", kind: ParamKind::CountIn(0, 8), default: "4", help: "coarsest level" },
     ],
@@ -32,6 +33,7 @@ pub const CASE: Case = Case {
         Sweep { param: "max_level", range: SweepRange::Count(0, 8) },
     ],
     budget_s: 1,
+    shaders: &[RECT, FULLSCREEN, FRAGMENT_STORAGE, INDIRECT_DRAW, GBUFFER, DEFERRED_LIGHTING, CPS_LOD, CPS_MASK_REDUCE, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
 };
 
@@ -40,13 +42,13 @@ fn as_texels(values: &[f32]) -> Vec<[f32; 4]> {
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = ctx.params.sizes("size")?[0];
-    let max_level = u32::try_from(ctx.params.count("max_level")?)?;
-    let inputs = corridor_inputs(ctx.gpu, size, u32::try_from(ctx.params.count("lights")?)?, 2)?;
+    let size = ctx.params.size("size")?;
+    let max_level = ctx.params.count_u32("max_level")?;
+    let inputs = corridor_inputs(ctx.gpu, size, ctx.params.count_u32("lights")?, 2)?;
     let fullres = light_full_resolution(ctx.gpu, &inputs)?;
     let reference = as_texels(&read_texture(ctx.gpu, &fullres, wgpu::TextureAspect::All, 0)?.as_f16());
 
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     let policies = [
         ("foveated", LodPolicy::Foveated { focus: (0.4, 0.5), inner_radius: 5.0 }),
         ("random", LodPolicy::Explicit(random_lod(size, 9))),
@@ -79,12 +81,12 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             let seam = seam_error(size, &lod, &gpu_image, &reference);
             ctx.metric(&format!("{name}.{}", composite.name()), serde_json::json!({"worst_difference_over_bound": worst, "pixels_out_of_tolerance": wrong, "seam_error": seam}));
             if wrong > 0 {
-                problems.push(format!(
+                verdict.fail(format!(
                     "{name} {}: {wrong} pixels differ from the CPU equations beyond their bounds (worst {worst:.2}x its bound)",
                     composite.name()
                 ));
             }
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

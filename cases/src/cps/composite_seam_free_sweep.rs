@@ -8,7 +8,8 @@
 use anyhow::Result;
 use fragkit::cps::CompositeMode;
 use fragkit::cps::report::{CpsSweep, composite_quality};
-use fragkit::harness::{Case, Ctx, Outcome};
+use fragkit::harness::{Case, Ctx, Outcome, Verdict};
+use fragkit::shaders::{CPS_COMPOSITE, CPS_EDGE_MASK, CPS_LIGHTING, CPS_LOD, CPS_MASK_REDUCE, CPS_STENCIL_MARK, DEFERRED_LIGHTING, FRAGMENT_STORAGE, FULLSCREEN, GBUFFER, INDIRECT_DRAW, RECT};
 
 pub const CASE: Case = Case {
     name: "cps.composite.seam_free_sweep",
@@ -17,6 +18,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 97,
+    shaders: &[RECT, FULLSCREEN, FRAGMENT_STORAGE, INDIRECT_DRAW, GBUFFER, DEFERRED_LIGHTING, CPS_EDGE_MASK, CPS_LOD, CPS_MASK_REDUCE, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
 };
 
@@ -26,7 +28,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let rows = composite_quality(ctx.gpu, &sweep, &CompositeMode::ALL)?;
 
     // Compare each seam-free row with the 4-neighbour row of the same configuration.
-    let mut losses = Vec::new();
+    let mut verdict = Verdict::new();
     for ours in rows.iter().filter(|r| r.composite == CompositeMode::SeamFree) {
         let configuration = format!("{}.top{}.lights{}", ours.policy, ours.max_level, ours.lights);
         let of = |mode| {
@@ -45,18 +47,18 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             }),
         );
         if ours.quality.seam_error > original.quality.seam_error {
-            losses.push(format!(
+            verdict.fail(format!(
                 "{configuration}: seam error {:.5} above 4-neighbour's {:.5}",
                 ours.quality.seam_error, original.quality.seam_error
             ));
         }
         if ours.quality.flip > original.quality.flip {
-            losses.push(format!(
+            verdict.fail(format!(
                 "{configuration}: FLIP {:.5} above 4-neighbour's {:.5}",
                 ours.quality.flip, original.quality.flip
             ));
         }
     }
     ctx.metric("rows", rows.len() / CompositeMode::ALL.len());
-    Ok(if losses.is_empty() { Outcome::Pass } else { Outcome::Fail(losses.join("; ")) })
+    Ok(verdict.outcome())
 }

@@ -10,6 +10,7 @@ use anyhow::Result;
 use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
 use fragkit::probe::stencil_gated_draw::{REJECTION_RATIO_LIMIT, adapter_rejects_early};
+use fragkit::shaders::{CPS_COMPOSITE, CPS_LIGHTING, CPS_LOD, CPS_MASK_REDUCE, CPS_STENCIL_MARK, FRAGMENT_STORAGE, FULLSCREEN, GBUFFER, HEAVY_SHADING, INDIRECT_DRAW, RECT};
 use fragkit_report::noise::median;
 
 use super::{corridor_inputs, frame};
@@ -19,19 +20,20 @@ pub const CASE: Case = Case {
     summary: "a level's lighting time scales with the texels its stencil passes",
     requires: wgpu::Features::TIMESTAMP_QUERY,
     params: &[
-        ParamSpec { name: "size", kind: ParamKind::Sizes, default: "128x128", help: "screen size" },
+        ParamSpec { name: "size", kind: ParamKind::Size, default: "128x128", help: "screen size" },
         ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "64", help: "point lights" },
         ParamSpec { name: "repeats", kind: ParamKind::CountIn(1, 1000), default: "3", help: "timed repeats (median)" },
     ],
     sweep: &[],
     budget_s: 13,
+    shaders: &[RECT, FULLSCREEN, HEAVY_SHADING, FRAGMENT_STORAGE, INDIRECT_DRAW, GBUFFER, CPS_LOD, CPS_MASK_REDUCE, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
 };
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = ctx.params.sizes("size")?[0];
+    let size = ctx.params.size("size")?;
     let repeats = ctx.params.count("repeats")?.max(1);
-    let inputs = corridor_inputs(ctx.gpu, size, u32::try_from(ctx.params.count("lights")?)?, 4)?;
+    let inputs = corridor_inputs(ctx.gpu, size, ctx.params.count_u32("lights")?, 4)?;
     let pixels = (size.0 * size.1) as usize;
 
     // Level 0 in the top-left 1/8 × 1/8 of the screen, the rest at the coarsest level: time of

@@ -12,10 +12,11 @@ use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy, MAX_LEVEL};
 use fragkit::deferred::DeferredInputs;
 use fragkit::deferred::lights::LightTexture;
 use fragkit::deferred::phong::read_surfaces;
-use fragkit::harness::{Case, Ctx, Outcome};
+use fragkit::harness::{Case, Ctx, Outcome, Verdict};
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 use fragkit::readback::read_texture;
 use fragkit::scene::corridor::{Light, corridor};
+use fragkit::shaders::{CPS_COMPOSITE, CPS_LIGHTING, CPS_LOD, CPS_MASK_REDUCE, CPS_STENCIL_MARK, FRAGMENT_STORAGE, FULLSCREEN, GBUFFER, INDIRECT_DRAW, RECT};
 
 use super::{corridor_inputs, frame};
 
@@ -26,18 +27,20 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 3,
+    shaders: &[RECT, FULLSCREEN, FRAGMENT_STORAGE, INDIRECT_DRAW, GBUFFER, CPS_LOD, CPS_MASK_REDUCE, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
 };
 
-/// Renders every composite mode; returns problems (non-finite values, wrong counts).
+/// Renders every composite mode, recording in `verdict` what is wrong (non-finite values,
+/// wrong counts).
 fn check_all_modes(
     ctx: &mut Ctx,
+    verdict: &mut Verdict,
     name: &str,
     inputs: &DeferredInputs,
     policy: LodPolicy,
     precision: OcclusionPrecision,
-) -> Result<Vec<String>> {
-    let mut problems = Vec::new();
+) -> Result<()> {
     let size = inputs.gbuffer.size;
     let surfaces = read_surfaces(ctx.gpu, &inputs.gbuffer)?;
     for composite in CompositeMode::ALL {
@@ -60,12 +63,12 @@ fn check_all_modes(
             serde_json::json!({"non_finite": non_finite, "shaded": output.shaded_texels, "expected": expected}),
         );
         if non_finite > 0 {
-            problems.push(format!("{name} {}: {non_finite} non-finite values", composite.name()));
+            verdict.fail(format!("{name} {}: {non_finite} non-finite values", composite.name()));
         }
         let counts_hold = output.shaded_texels.len() == expected.len()
             && output.shaded_texels.iter().zip(&expected).all(|(&m, &e)| precision.allows(m, e));
         if !counts_hold {
-            problems.push(format!(
+            verdict.fail(format!(
                 "{name} {}: occlusion queries answered {:?} per level, where {expected:?} texels must be shaded \
                  ({precision:?} queries)",
                 composite.name(),
@@ -73,24 +76,25 @@ fn check_all_modes(
             ));
         }
     }
-    Ok(problems)
+    Ok(())
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let precision = measure_occlusion_precision(ctx.gpu)?;
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
 
     let tiny = corridor_inputs(ctx.gpu, (1, 1), 200, 5)?;
-    problems.extend(check_all_modes(ctx, "1x1_200_lights", &tiny, LodPolicy::foveated(), precision)?);
+    check_all_modes(ctx, &mut verdict, "1x1_200_lights", &tiny, LodPolicy::foveated(), precision)?;
 
     let wide = corridor_inputs(ctx.gpu, (300, 200), 8, 5)?;
-    problems.extend(check_all_modes(
+    check_all_modes(
         ctx,
+        &mut verdict,
         "300x200_all_level_8",
         &wide,
         LodPolicy::Explicit(vec![8; 300 * 200]),
         precision,
-    )?);
+    )?;
 
     // Lights moved onto surface points the G-buffer holds, bit for bit: distance exactly 0 there.
     // Shading must be finite and continuous: as if each light sat 1 mm above its point along the
@@ -116,7 +120,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     renderer.render(ctx.gpu, &frame(&inputs))?;
     let limit = renderer.read_image(ctx.gpu)?;
     inputs.lights = LightTexture::new(ctx.gpu, &scene.lights)?;
-    problems.extend(check_all_modes(ctx, "lights_on_surfaces", &inputs, all_fine, precision)?);
+    check_all_modes(ctx, &mut verdict, "lights_on_surfaces", &inputs, all_fine, precision)?;
     renderer.render(ctx.gpu, &frame(&inputs))?;
     let on_surface = renderer.read_image(ctx.gpu)?;
     // 1 % of the value: the 1 mm lift changes attenuation by 1e-6, the direction by f16 rounding.
@@ -129,12 +133,12 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         .collect();
     ctx.metric("lights_on_surfaces.discontinuous_pixels", jumps.len());
     if !jumps.is_empty() {
-        problems.push(format!(
+        verdict.fail(format!(
             "lights on surfaces: shading jumps at {} of {} light pixels against lights 1 mm above",
             jumps.len(),
             pixels.len()
         ));
     }
 
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

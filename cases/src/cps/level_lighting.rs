@@ -12,8 +12,9 @@ use fragkit::cps::reference::expected_shaded_texels;
 use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy};
 use fragkit::deferred::DeferredInputs;
 use fragkit::deferred::phong::{read_surfaces, shade};
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
 use fragkit::scene::corridor::corridor;
+use fragkit::shaders::{CPS_COMPOSITE, CPS_LIGHTING, CPS_LOD, CPS_MASK_REDUCE, CPS_STENCIL_MARK, FRAGMENT_STORAGE, FULLSCREEN, GBUFFER, INDIRECT_DRAW, RECT};
 
 use super::{frame, random_lod};
 
@@ -32,13 +33,14 @@ pub const CASE: Case = Case {
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 1,
+    shaders: &[RECT, FULLSCREEN, FRAGMENT_STORAGE, INDIRECT_DRAW, GBUFFER, CPS_LOD, CPS_MASK_REDUCE, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
 };
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let seed = u32::try_from(ctx.params.count("seed")?)?;
-    let scene = corridor(seed, u32::try_from(ctx.params.count("lights")?)?);
-    let mut problems = Vec::new();
+    let seed = ctx.params.count_u32("seed")?;
+    let scene = corridor(seed, ctx.params.count_u32("lights")?);
+    let mut verdict = Verdict::new();
     for size in ctx.params.sizes("sizes")? {
         let inputs = DeferredInputs::new(ctx.gpu, &scene, size)?;
         let surfaces = read_surfaces(ctx.gpu, &inputs.gbuffer)?;
@@ -64,7 +66,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 let lit = renderer.read_lit_level(ctx.gpu, level)?;
                 let shaded = lit.chunks_exact(4).filter(|t| t[3] == 1.0).count() as u64;
                 if shaded != needed[level as usize] {
-                    problems.push(format!(
+                    verdict.fail(format!(
                         "{key}: level {level} shaded {shaded} texels, the LOD input needs {}",
                         needed[level as usize]
                     ));
@@ -84,7 +86,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 serde_json::json!({"checked": checked, "beyond_bound": wrong, "worst_error_in_bounds": worst}),
             );
             if wrong > 0 {
-                problems.push(format!("{key}: {wrong} of {checked} lit texels differ from the Phong of their block's centre pixel (worst {worst:.1}x the bound)"));
+                verdict.fail(format!("{key}: {wrong} of {checked} lit texels differ from the Phong of their block's centre pixel (worst {worst:.1}x the bound)"));
             }
 
             // Where the GPU counts the levels, their draw arguments whole (the kit opens its
@@ -97,12 +99,12 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 let instances: Vec<u32> = draws.iter().map(|d| d[1]).collect();
                 ctx.metric(&format!("{key}.instances"), serde_json::json!({"measured": instances, "expected": expected_draws.iter().map(|d| d[1]).collect::<Vec<_>>(), "skips_absent_levels": true}));
                 if draws != expected_draws {
-                    problems.push(format!("{key}: level draw arguments {draws:?}, expected {expected_draws:?}"));
+                    verdict.fail(format!("{key}: level draw arguments {draws:?}, expected {expected_draws:?}"));
                 }
             } else {
                 ctx.metric(&format!("{key}.level_draws"), "direct (no counted indirect draws here: kit.draw.indirect)");
             }
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

@@ -9,7 +9,8 @@ use anyhow::Result;
 use fragkit::cps::lod_model::model;
 use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy};
 use fragkit::deferred::phong::read_surfaces;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
+use fragkit::shaders::{CPS_COMPOSITE, CPS_EDGE_MASK, CPS_LIGHTING, CPS_LOD, CPS_MASK_REDUCE, CPS_STENCIL_MARK, FRAGMENT_STORAGE, FULLSCREEN, GBUFFER, INDIRECT_DRAW, RECT};
 
 use super::{corridor_inputs, frame};
 
@@ -30,6 +31,7 @@ pub const CASE: Case = Case {
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 2,
+    shaders: &[RECT, FULLSCREEN, FRAGMENT_STORAGE, INDIRECT_DRAW, GBUFFER, CPS_EDGE_MASK, CPS_LOD, CPS_MASK_REDUCE, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
 };
 
@@ -40,15 +42,15 @@ fn top_level(screen: (u32, u32), max_level: u32) -> u32 {
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let radius = ctx.params.count("radius")? as f32;
-    let max_level = u32::try_from(ctx.params.count("max_level")?)?;
-    let seed = u32::try_from(ctx.params.count("seed")?)?;
+    let max_level = ctx.params.count_u32("max_level")?;
+    let seed = ctx.params.count_u32("seed")?;
     let policies = [
         ("foveated_centre", LodPolicy::Foveated { focus: (0.5, 0.5), inner_radius: radius }),
         ("foveated_corner", LodPolicy::Foveated { focus: (0.1, 0.85), inner_radius: radius * 1.5 }),
         ("content", LodPolicy::content()),
         ("content_strict", LodPolicy::Content { normal_cos: 0.99, depth_ratio: 0.01 }),
     ];
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for size in ctx.params.sizes("sizes")? {
         let inputs = corridor_inputs(ctx.gpu, size, 1, seed)?;
         let surfaces = read_surfaces(ctx.gpu, &inputs.gbuffer)?;
@@ -71,12 +73,12 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             ctx.metric(&key, serde_json::json!({"wrong_pixels": wrong.len(), "ambiguous_pixels": ambiguous, "levels_used": levels_used}));
             if let Some(&(i, got, want)) = wrong.first() {
                 let (x, y) = (i as u32 % size.0, i as u32 / size.0);
-                problems.push(format!(
+                verdict.fail(format!(
                     "{key}: {} pixels at the wrong level, first ({x}, {y}): {got}, the policy says {want}",
                     wrong.len()
                 ));
             }
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

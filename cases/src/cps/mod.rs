@@ -1,14 +1,16 @@
 //! `cps.*`: coarse pixel shading through a stencil pyramid.
 
-pub mod all_fine_equals_fullres;
-pub mod composite_linear_precision;
-pub mod composite_matches_reference;
-pub mod composite_seam_free_sweep;
-pub mod early_rejection;
-pub mod extremes;
-pub mod level_lighting;
-pub mod lod_policy;
-pub mod stencil_equal_counts;
+fragkit::cases! {
+    lod_policy: CASE;
+    stencil_equal_counts: CASE;
+    level_lighting: CASE;
+    all_fine_equals_fullres: CASE;
+    composite_matches_reference: CASE;
+    composite_linear_precision: CASE;
+    composite_seam_free_sweep: CASE;
+    early_rejection: CASE;
+    extremes: CASE;
+}
 
 use anyhow::Result;
 use fragkit::Gpu;

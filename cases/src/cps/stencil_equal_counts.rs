@@ -14,8 +14,9 @@ use fragkit::cps::lod_model::model;
 use fragkit::cps::reference::{blocks_holding, needed_texels};
 use fragkit::cps::{CompositeMode, CpsConfig, CpsRenderer, LodPolicy, MAX_LEVEL};
 use fragkit::deferred::phong::read_surfaces;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
+use fragkit::shaders::{CPS_COMPOSITE, CPS_EDGE_MASK, CPS_LIGHTING, CPS_LOD, CPS_MASK_REDUCE, CPS_STENCIL_MARK, FRAGMENT_STORAGE, FULLSCREEN, GBUFFER, INDIRECT_DRAW, RECT};
 
 use super::{corridor_inputs, frame, random_lod};
 
@@ -25,13 +26,14 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[
         ParamSpec { name: "sizes", kind: ParamKind::Sizes, default: "1x1,64x48,257x131", help: "screen sizes" },
-        ParamSpec { name: "seed", kind: ParamKind::Count, default: "3", help: "scene and random-LOD seed" },
+        ParamSpec { name: "seed", kind: ParamKind::CountIn(0, u32::MAX as u64), default: "3", help: "scene and random-LOD seed" },
     ],
     sweep: &[
         Sweep { param: "sizes", range: SweepRange::Size { min: (1, 1), max: (300, 200) } },
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 3,
+    shaders: &[RECT, FULLSCREEN, FRAGMENT_STORAGE, INDIRECT_DRAW, GBUFFER, CPS_EDGE_MASK, CPS_LOD, CPS_MASK_REDUCE, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
 };
 
@@ -51,7 +53,7 @@ fn policies(size: (u32, u32), seed: u32) -> Vec<(&'static str, LodPolicy)> {
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let seed = ctx.params.count("seed")? as u32;
+    let seed = ctx.params.count_u32("seed")?;
     let precision = measure_occlusion_precision(ctx.gpu)?;
     let stencil_copies = ctx
         .gpu
@@ -60,7 +62,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         .flags
         .contains(wgpu::DownlevelFlags::DEPTH_TEXTURE_AND_BUFFER_COPIES);
     ctx.metric("stencil_read_back", stencil_copies);
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for size in ctx.params.sizes("sizes")? {
         let inputs = corridor_inputs(ctx.gpu, size, 2, seed)?;
         let surfaces = read_surfaces(ctx.gpu, &inputs.gbuffer)?;
@@ -93,8 +95,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                     .filter(|&(i, (t, &n))| sure(i) && (t[3] == 1.0) != n)
                     .count();
                 if wrong > 0 {
-                    problems
-                        .push(format!("{key}: level {level} lit {wrong} texels it should not have, or missed them"));
+                    verdict
+                        .fail(format!("{key}: level {level} lit {wrong} texels it should not have, or missed them"));
                 }
                 if stencil_copies {
                     let stencil = renderer.read_stencil_level(ctx.gpu, level)?;
@@ -105,7 +107,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                         .filter(|&(i, (&s, &n))| sure(i) && (s != 0) != n)
                         .count();
                     if wrong > 0 {
-                        problems.push(format!("{key}: level {level} stencil wrong at {wrong} texels"));
+                        verdict.fail(format!("{key}: level {level} stencil wrong at {wrong} texels"));
                     }
                 }
             }
@@ -125,15 +127,15 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                     }
                 });
             if !counts_agree {
-                problems.push(format!(
+                verdict.fail(format!(
                     "{key}: occlusion counts {:?}, expected {expected:?} (plus up to {undecided:?} undecided)",
                     output.shaded_texels
                 ));
             }
         }
     }
-    Ok(if !problems.is_empty() {
-        Outcome::Fail(problems.join("; "))
+    Ok(if !verdict.is_clean() {
+        verdict.outcome()
     } else if precision != OcclusionPrecision::Exact {
         Outcome::NotSupported(format!(
             "exact occlusion counts ({precision:?}); the per-texel read-back matched exactly"

@@ -8,6 +8,7 @@ use fragkit::cbr::FullResolutionScene;
 use fragkit::cbr::measure::read_hdr;
 use fragkit::cbr::scene::flat_rects;
 use fragkit::harness::{Case, Ctx, Outcome};
+use fragkit::shaders::CBR_SCENE;
 
 pub const CASE: Case = Case {
     name: "fault.device_loss",
@@ -16,6 +17,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    shaders: &[CBR_SCENE],
     run,
 };
 

@@ -5,8 +5,11 @@
 //! a hang or running out of memory). `cases/tests/cli.rs` runs them between ordinary cases and
 //! checks the report.
 
-pub mod device_loss;
-pub mod hang;
-pub mod out_of_memory;
-pub mod process_death;
-pub mod validation_error;
+fragkit::cases! {
+    validation_error: CASE;
+    device_loss: CASE;
+    abort: CASE;
+    segfault: CASE;
+    hang: CASE;
+    out_of_memory: CASE;
+}

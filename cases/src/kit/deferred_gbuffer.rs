@@ -22,6 +22,7 @@ use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRan
 use fragkit::image_compare::{error_mask, side_by_side};
 use fragkit::scene::corridor::corridor;
 use fragkit::tonemap::ldr_to_display;
+use fragkit::shaders::GBUFFER;
 use glam::DVec3;
 
 pub const CASE: Case = Case {
@@ -29,7 +30,7 @@ pub const CASE: Case = Case {
     summary: "the G-buffer equals a CPU ray cast of the scene: surface, position, normal, material",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec { name: "size", kind: ParamKind::SizesFrom(1), default: "96x64", help: "screen size" },
+        ParamSpec { name: "size", kind: ParamKind::SizeFrom(1), default: "96x64", help: "screen size" },
         ParamSpec { name: "seed", kind: ParamKind::CountIn(0, 1 << 20), default: "2", help: "scene seed" },
     ],
     sweep: &[
@@ -37,6 +38,7 @@ pub const CASE: Case = Case {
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 1,
+    shaders: &[GBUFFER],
     run,
 };
 
@@ -83,8 +85,8 @@ fn check(model: &SurfaceModel, expected: ExpectedPixel, gpu: &Surface) -> Option
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = ctx.params.sizes("size")?[0];
-    let scene = corridor(u32::try_from(ctx.params.count("seed")?)?, 1);
+    let size = ctx.params.size("size")?;
+    let scene = corridor(ctx.params.count_u32("seed")?, 1);
     let inputs = DeferredInputs::new(ctx.gpu, &scene, size)?;
     let surfaces = read_surfaces(ctx.gpu, &inputs.gbuffer)?;
 

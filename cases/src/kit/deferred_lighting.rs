@@ -12,13 +12,14 @@ use fragkit::deferred::phong::{PhongComparison, read_surfaces, shade};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
 use fragkit::readback::read_texture;
 use fragkit::scene::corridor::corridor;
+use fragkit::shaders::{DEFERRED_LIGHTING, FULLSCREEN, GBUFFER};
 
 pub const CASE: Case = Case {
     name: "kit.deferred.lighting",
     summary: "full-resolution lighting equals a CPU Phong of the G-buffer within derived f32/f16 bounds",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec { name: "size", kind: ParamKind::SizesFrom(1), default: "96x64", help: "screen size" },
+        ParamSpec { name: "size", kind: ParamKind::SizeFrom(1), default: "96x64", help: "screen size" },
         ParamSpec { name: "lights", kind: ParamKind::CountIn(1, 4096), default: "64", help: "point lights" },
         ParamSpec { name: "seed", kind: ParamKind::CountIn(0, 1 << 20), default: "2", help: "scene seed" },
     ],
@@ -28,12 +29,13 @@ pub const CASE: Case = Case {
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 1,
+    shaders: &[FULLSCREEN, GBUFFER, DEFERRED_LIGHTING],
     run,
 };
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = ctx.params.sizes("size")?[0];
-    let scene = corridor(u32::try_from(ctx.params.count("seed")?)?, u32::try_from(ctx.params.count("lights")?)?);
+    let size = ctx.params.size("size")?;
+    let scene = corridor(ctx.params.count_u32("seed")?, ctx.params.count_u32("lights")?);
     let inputs = DeferredInputs::new(ctx.gpu, &scene, size)?;
     let lit = read_texture(ctx.gpu, &light_full_resolution(ctx.gpu, &inputs)?, wgpu::TextureAspect::All, 0)?.as_f16();
 

@@ -12,6 +12,7 @@ use fragkit::probe::subpixel_precision::COARSEST_SNAP;
 use fragkit::readback::read_rgba8;
 use fragkit::scene::hash::SeededRng;
 use fragkit::shaders;
+use fragkit::shaders::NOISE_TRIANGLES;
 use wgpu::util::DeviceExt;
 
 pub const CASE: Case = Case {
@@ -19,14 +20,14 @@ pub const CASE: Case = Case {
     summary: "a seeded scene rendered twice from scratch reads back bit-identical",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec { name: "size", kind: ParamKind::Sizes, default: "96x64", help: "target size" },
+        ParamSpec { name: "size", kind: ParamKind::Size, default: "96x64", help: "target size" },
         ParamSpec {
             name: "triangles",
             kind: ParamKind::CountIn(1, 1000000),
             default: "48",
             help: "triangles in the scene",
         },
-        ParamSpec { name: "seed", kind: ParamKind::Count, default: "7", help: "scene and noise seed" },
+        ParamSpec { name: "seed", kind: ParamKind::CountIn(0, u32::MAX as u64), default: "7", help: "scene and noise seed" },
     ],
     sweep: &[
         Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (256, 256) } },
@@ -34,6 +35,7 @@ pub const CASE: Case = Case {
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 1,
+    shaders: &[NOISE_TRIANGLES],
     run,
 };
 
@@ -177,8 +179,8 @@ fn cpu_coverage(size: (u32, u32), vertices: &[Vertex], x: u32, y: u32) -> Option
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = ctx.params.sizes("size")?[0];
-    let seed = ctx.params.count("seed")? as u32;
+    let size = ctx.params.size("size")?;
+    let seed = ctx.params.count_u32("seed")?;
     let vertices = scene(ctx.params.count("triangles")?, seed);
 
     let first = render(ctx, size, &vertices, seed)?;

@@ -4,16 +4,17 @@
 //! feature exists); the time ratio is a capability result, since a driver may legally shade late.
 
 use anyhow::Result;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Verdict};
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 use fragkit::probe::stencil_gated_draw::{REJECTION_RATIO_LIMIT, StencilGatedDraw};
+use fragkit::shaders::{FRAGMENT_COUNTER, FRAGMENT_STORAGE, FULLSCREEN, HEAVY_SHADING, RECT};
 
 pub const CASE: Case = Case {
     name: "kit.early_rejection",
     summary: "a stencil-Equal test that passes few pixels skips the fragment shader for the rest",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec { name: "size", kind: ParamKind::Sizes, default: "256x256", help: "target size" },
+        ParamSpec { name: "size", kind: ParamKind::Size, default: "256x256", help: "target size" },
         ParamSpec {
             name: "passing",
             kind: ParamKind::Sizes,
@@ -35,13 +36,14 @@ pub const CASE: Case = Case {
     ],
     sweep: &[],
     budget_s: 8,
+    shaders: &[RECT, FULLSCREEN, HEAVY_SHADING, FRAGMENT_COUNTER, FRAGMENT_STORAGE],
     run,
 };
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = ctx.params.sizes("size")?[0];
+    let size = ctx.params.size("size")?;
     let passing = ctx.params.sizes("passing")?[0];
-    let iterations = u32::try_from(ctx.params.count("iterations")?)?;
+    let iterations = ctx.params.count_u32("iterations")?;
     let repeats = ctx.params.count("repeats")?;
     let gpu = ctx.gpu;
     let precision = measure_occlusion_precision(gpu)?;
@@ -66,19 +68,19 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     ctx.metric("occlusion_count", serde_json::json!({"expected": expected, "measured": warm_up.passing_samples}));
     ctx.metric("atomic_count", serde_json::json!({"expected": expected, "measured": counted_fragments}));
 
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     if precision == OcclusionPrecision::Exact && warm_up.passing_samples != expected {
-        problems
-            .push(format!("occlusion query counted {} passing pixels, expected {expected}", warm_up.passing_samples));
+        verdict
+            .fail(format!("occlusion query counted {} passing pixels, expected {expected}", warm_up.passing_samples));
     }
     if let Some(counted) = counted_fragments
         && u64::from(counted) != expected
     {
-        problems
-            .push(format!("atomic counter under early_depth_test(force) saw {counted} fragments, expected {expected}"));
+        verdict
+            .fail(format!("atomic counter under early_depth_test(force) saw {counted} fragments, expected {expected}"));
     }
-    Ok(if !problems.is_empty() {
-        Outcome::Fail(problems.join("; "))
+    Ok(if !verdict.is_clean() {
+        verdict.outcome()
     } else if ratio > REJECTION_RATIO_LIMIT {
         Outcome::NotSupported(format!(
             "early stencil rejection: the Equal draw ({:.2} % passing) cost {ratio:.2}x the Always draw",

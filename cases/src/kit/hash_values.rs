@@ -10,6 +10,7 @@ use fragkit::harness::{Case, Ctx, Outcome};
 use fragkit::oit::fragment_random::fragment_random;
 use fragkit::probe::hash_values::{GRID_WIDTH, RandomInputs, evaluate_hashes};
 use fragkit::scene::hash::{hash_unit, pcg_hash};
+use fragkit::shaders::{FULLSCREEN, HASH_VALUES};
 
 pub const CASE: Case = Case {
     name: "kit.hash.values",
@@ -18,6 +19,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    shaders: &[FULLSCREEN, HASH_VALUES],
     run,
 };
 

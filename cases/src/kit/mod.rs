@@ -1,14 +1,16 @@
 //! `kit.*`: conformance of the adapter features the techniques rely on.
 
-pub mod deferred_gbuffer;
-pub mod deferred_lighting;
-pub mod determinism;
-pub mod early_rejection;
-pub mod hash_values;
-pub mod indirect_draw;
-pub mod mip_fetch;
-pub mod msaa_sample_positions;
-pub mod occlusion_exact;
-pub mod sample_mask;
-pub mod scissor_msaa;
-pub mod subpixel_precision;
+fragkit::cases! {
+    raster_subpixel_precision: CASE;
+    msaa_sample_positions: CASE_1X, CASE_2X, CASE_4X, CASE_8X;
+    msaa_sample_mask: CASE;
+    occlusion_exact: CASE;
+    scissor_msaa: CASE;
+    early_rejection: CASE;
+    determinism: CASE;
+    hash_values: CASE;
+    deferred_gbuffer: CASE;
+    deferred_lighting: CASE;
+    fetch_per_pixel_level: CASE;
+    draw_indirect: CASE;
+}

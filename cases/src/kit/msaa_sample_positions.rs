@@ -6,13 +6,14 @@
 use anyhow::{Context, Result};
 use fragkit::caps::{common_sample_counts, matches_standard};
 use fragkit::harness::capability::missing_capability;
-use fragkit::harness::{Case, Ctx, Outcome};
+use fragkit::harness::{Case, Ctx, Outcome, Verdict};
 use fragkit::probe::multisample_render::render_problem;
 use fragkit::probe::sample_positions::{
     Route, STEPS, SamplePosition, measure, measure_per_sample_shading, standard_positions,
 };
 use fragkit::probe::sample_projections::measure_projections;
 use fragkit::probe::subpixel_precision::COARSEST_SNAP;
+use fragkit::shaders::{FRAGMENT_STORAGE, FULLSCREEN, RECT, SAMPLE_COVERAGE_RECORD, SAMPLE_POSITION};
 
 macro_rules! sample_positions_case {
     ($const:ident, $samples:literal, $name:literal) => {
@@ -27,6 +28,7 @@ macro_rules! sample_positions_case {
             params: &[],
             sweep: &[],
             budget_s: 1,
+            shaders: &[RECT, FULLSCREEN, SAMPLE_POSITION, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE],
             run: |ctx| sample_positions(ctx, $samples),
         };
     };
@@ -96,17 +98,17 @@ fn sample_positions(ctx: &mut Ctx, samples: u32) -> Result<Outcome> {
     let measurement = measure(ctx.gpu, samples)?;
     ctx.metric("sample_mask_honoured", measurement.sample_mask_honoured);
     ctx.metric("skipped_routes", &measurement.skipped);
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for (route, result) in &measurement.routes {
         match result {
             Ok(positions) => {
                 let mids: Vec<_> = positions.iter().map(SamplePosition::mid).collect();
                 ctx.metric(&format!("positions.{route:?}").to_lowercase(), &mids);
                 if positions.iter().any(|p| p.x.is_none() || p.y.is_none()) {
-                    problems.push(format!("{route:?} route: some samples were never covered (an unexplained zero)"));
+                    verdict.fail(format!("{route:?} route: some samples were never covered (an unexplained zero)"));
                 }
             }
-            Err(error) => problems.push(format!("{route:?} route failed: {error}")),
+            Err(error) => verdict.fail(format!("{route:?} route failed: {error}")),
         }
     }
     let Some(positions) = measurement.agreed().cloned() else {
@@ -114,9 +116,9 @@ fn sample_positions(ctx: &mut Ctx, samples: u32) -> Result<Outcome> {
             return projections_only(ctx, samples, &measurement.skipped);
         }
         if measurement.routes.iter().filter(|(_, r)| r.is_ok()).count() > 1 {
-            problems.push("the routes disagree on the positions".into());
+            verdict.fail("the routes disagree on the positions");
         }
-        return Ok(Outcome::Fail(problems.join("; ")));
+        return Ok(Outcome::Fail(verdict.problems().join("; ")));
     };
     ctx.metric("positions", positions.iter().map(SamplePosition::mid).collect::<Vec<_>>());
 
@@ -125,7 +127,7 @@ fn sample_positions(ctx: &mut Ctx, samples: u32) -> Result<Outcome> {
     ctx.metric("standard", standard);
     if !matches_standard(samples, &positions) {
         let mids: Vec<_> = positions.iter().map(SamplePosition::mid).collect();
-        problems.push(format!(
+        verdict.fail(format!(
             "positions {mids:?} differ from the standard {standard:?} by more than 4-bit snapping allows (1/16 px + 1/{STEPS} px)"
         ));
     }
@@ -137,7 +139,7 @@ fn sample_positions(ctx: &mut Ctx, samples: u32) -> Result<Outcome> {
         Err(error) => match missing_capability(&format!("{error:#}")) {
             Some(capability) => {
                 ctx.metric("per_sample_shading", format!("not offered: {capability}"));
-                return Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) });
+                return Ok(verdict.outcome());
             }
             None => return Err(error),
         },
@@ -158,14 +160,14 @@ fn sample_positions(ctx: &mut Ctx, samples: u32) -> Result<Outcome> {
         // The sample's own position (Vulkan, Metal) or the pixel centre (D3D) are both fine; any
         // other point is not where this fragment was shaded.
         if meanings.iter().any(|m| m.starts_with("other")) {
-            problems.push(format!("under per-sample shading @builtin(position) reported {meanings:?}"));
+            verdict.fail(format!("under per-sample shading @builtin(position) reported {meanings:?}"));
         }
     } else {
-        problems.push(format!(
+        verdict.fail(format!(
             "per-sample shading ran {} invocations with sample_index {:?}, expected {expected_indices:?}",
             shading.invocations, shading.sample_index
         ));
     }
 
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

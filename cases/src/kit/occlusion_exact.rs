@@ -13,6 +13,7 @@ use fragkit::probe::sample_projections::measure_projections;
 use fragkit::query::OcclusionQueries;
 use fragkit::rects::{Rect, RectBatch, RectPipeline, stencil_equal, stencil_replace};
 use fragkit::scene::hash::SeededRng;
+use fragkit::shaders::{FRAGMENT_STORAGE, FULLSCREEN, RECT, SAMPLE_COVERAGE_RECORD};
 
 pub const CASE: Case = Case {
     name: "kit.occlusion.exact",
@@ -22,7 +23,7 @@ pub const CASE: Case = Case {
         ParamSpec { name: "sizes", kind: ParamKind::Sizes, default: "1x1,7x5,64x64,257x131", help: "target sizes" },
         ParamSpec { name: "sample_counts", kind: ParamKind::Counts, default: "1,4", help: "sample counts to test" },
         ParamSpec { name: "rects", kind: ParamKind::Count, default: "24", help: "stencil rects per pattern" },
-        ParamSpec { name: "seed", kind: ParamKind::Count, default: "1", help: "pattern seed" },
+        ParamSpec { name: "seed", kind: ParamKind::CountIn(0, u32::MAX as u64), default: "1", help: "pattern seed" },
     ],
     sweep: &[
         Sweep { param: "sizes", range: SweepRange::Size { min: (1, 1), max: (400, 300) } },
@@ -30,6 +31,7 @@ pub const CASE: Case = Case {
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 1,
+    shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE],
     run,
 };
 
@@ -114,7 +116,7 @@ fn measured_counts(ctx: &mut Ctx, size: (u32, u32), samples: u32, pattern: &[(Re
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let sizes = ctx.params.sizes("sizes")?;
     let rect_count = ctx.params.count("rects")?;
-    let seed = ctx.params.count("seed")? as u32;
+    let seed = ctx.params.count_u32("seed")?;
     let advertised = common_sample_counts(ctx.gpu);
     let precision = measure_occlusion_precision(ctx.gpu)?;
     ctx.metric("precision", precision);

@@ -2,23 +2,24 @@
 //! scissor rect: none of the pixels outside it may change. Read back through a resolve (every
 //! backend) and, where occlusion queries count, through a stencil written under the scissor.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use fragkit::attachments;
 use fragkit::caps::common_sample_counts;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
 use fragkit::image_compare::{compare, side_by_side};
 use fragkit::probe::multisample_render::render_problem;
 use fragkit::probe::occlusion::{OcclusionPrecision, measure_occlusion_precision};
 use fragkit::query::OcclusionQueries;
 use fragkit::readback::read_rgba8;
 use fragkit::rects::{Rect, RectBatch, RectFragment, RectPipeline, stencil_equal, stencil_replace};
+use fragkit::shaders::RECT;
 
 pub const CASE: Case = Case {
     name: "kit.scissor.msaa",
     summary: "a scissored draw under MSAA covers no sample outside the scissor rect",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec { name: "size", kind: ParamKind::Sizes, default: "40x30", help: "target size" },
+        ParamSpec { name: "size", kind: ParamKind::Size, default: "40x30", help: "target size" },
         ParamSpec { name: "scissor", kind: ParamKind::Counts, default: "8,8,20,10", help: "x,y,width,height" },
         ParamSpec { name: "sample_counts", kind: ParamKind::Counts, default: "1,4", help: "sample counts to test" },
     ],
@@ -27,6 +28,7 @@ pub const CASE: Case = Case {
         Sweep { param: "size", range: SweepRange::Size { min: (28, 18), max: (400, 300) } },
     ],
     budget_s: 1,
+    shaders: &[RECT],
     run,
 };
 
@@ -126,7 +128,7 @@ fn scissored_stencil_count(ctx: &mut Ctx, size: (u32, u32), samples: u32, s: &Sc
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = *ctx.params.sizes("size")?.first().context("size")?;
+    let size = ctx.params.size("size")?;
     let rect = ctx.params.counts("scissor")?;
     let [x, y, w, h] = <[u64; 4]>::try_from(rect.clone())
         .map_err(|_| anyhow::anyhow!("scissor needs x,y,width,height, got {rect:?}"))?;
@@ -145,7 +147,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let inside = (s.x..s.x + s.w).contains(&px) && (s.y..s.y + s.h).contains(&py);
         if inside { image::Rgba([255; 4]) } else { image::Rgba([0, 0, 0, 255]) }
     });
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for samples in ctx.params.counts("sample_counts")? {
         let samples = samples as u32;
         if !advertised.contains(&samples) {
@@ -154,7 +156,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         }
         if samples > 1 {
             if let Some(problem) = render_problem(ctx.gpu, samples)? {
-                problems.push(problem);
+                verdict.fail(problem);
                 continue;
             }
         }
@@ -166,7 +168,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             // Which way they differ says where: samples drawn outside the rect (the rasteriser),
             // or pixels the resolve never wrote (the resolve).
             let unresolved = result.pixels().filter(|p| p.0 == UNRESOLVED).count() as u64;
-            problems.push(if unresolved == difference.differing_pixels {
+            verdict.fail(if unresolved == difference.differing_pixels {
                 format!("{samples}x: {unresolved} pixels outside the scissor rect never resolved (they kept what the target held)")
             } else {
                 format!("{samples}x: {} pixels differ from the scissor rect", difference.differing_pixels)
@@ -180,9 +182,9 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 serde_json::json!({"expected": expected_samples, "measured": measured}),
             );
             if measured != expected_samples {
-                problems.push(format!("{samples}x: stencil written under the scissor covers {measured} samples, expected {expected_samples}"));
+                verdict.fail(format!("{samples}x: stencil written under the scissor covers {measured} samples, expected {expected_samples}"));
             }
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

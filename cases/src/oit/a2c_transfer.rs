@@ -7,11 +7,12 @@
 
 use anyhow::Result;
 use fragkit::Gpu;
-use fragkit::harness::{Case, Ctx, Outcome};
+use fragkit::harness::{Case, Ctx, Outcome, Verdict};
 use fragkit::oit::run::{Accumulation, Method, run_method};
 use fragkit::oit::scene::{Quad, QuadScene};
 use fragkit::probe::alpha_to_coverage::{ALPHA_STEPS, measure_alpha_to_coverage};
 use fragkit::probe::sample_mask::measure_sample_mask;
+use fragkit::shaders::{ALPHA_RAMP, FRAGMENT_STORAGE, FULLSCREEN, OIT_PLAIN_COVERAGE, OIT_QUAD, RECT, SAMPLE_COVERAGE_RECORD};
 
 use super::multisample_counts;
 
@@ -22,6 +23,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, ALPHA_RAMP, FRAGMENT_STORAGE, OIT_QUAD, OIT_PLAIN_COVERAGE],
     run,
 };
 
@@ -51,24 +53,24 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         Ok(counts) => counts,
         Err(outcome) => return Ok(outcome),
     };
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for samples in counts {
         let mask_honoured = measure_sample_mask(ctx.gpu, samples)?.iter().all(|m| m.honoured());
         let transfer = measure_alpha_to_coverage(ctx.gpu, samples, mask_honoured)?;
         ctx.metric(&format!("{samples}x"), &transfer);
         let at = |step: u32| transfer.mean_covered[step as usize];
         if at(0) != 0.0 {
-            problems.push(format!("{samples}x: alpha 0 covers {} samples", at(0)));
+            verdict.fail(format!("{samples}x: alpha 0 covers {} samples", at(0)));
         }
         if at(ALPHA_STEPS) != samples as f32 {
-            problems.push(format!("{samples}x: alpha 1 covers {} of {samples} samples", at(ALPHA_STEPS)));
+            verdict.fail(format!("{samples}x: alpha 1 covers {} of {samples} samples", at(ALPHA_STEPS)));
         }
         if !transfer.monotonic {
-            problems.push(format!("{samples}x: coverage falls somewhere as alpha grows"));
+            verdict.fail(format!("{samples}x: coverage falls somewhere as alpha grows"));
         }
         let missing: Vec<u32> = (0..=samples).filter(|k| !transfer.levels.contains(k)).collect();
         if !missing.is_empty() {
-            problems.push(format!("{samples}x: no alpha covers exactly {missing:?} samples"));
+            verdict.fail(format!("{samples}x: no alpha covers exactly {missing:?} samples"));
         }
         // The kit's plain A2C method (the comparison baseline) must cover what the adapter's
         // transfer does at its quads' own alphas; where the adapter dithers, a pixel's count
@@ -81,7 +83,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let differing: Vec<u32> = (0..=ALPHA_STEPS).filter(|&k| columns[k as usize] != at(k)).collect();
         ctx.metric(&format!("{samples}x.plain_coverage_differing_alphas"), differing.len());
         if let Some(&k) = differing.first() {
-            problems.push(format!(
+            verdict.fail(format!(
                 "{samples}x: plain alpha-to-coverage at {} of {} alphas covers other than the measured transfer (alpha {k}/{ALPHA_STEPS}: {} samples, transfer {})",
                 differing.len(),
                 ALPHA_STEPS + 1,
@@ -90,5 +92,5 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             ));
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

@@ -14,7 +14,7 @@
 //! the slab's plane (1/16 px, Vulkan's coarsest sub-pixel grid, times its slope).
 
 use anyhow::Result;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
 use fragkit::image_compare::{error_mask, side_by_side};
 use fragkit::oit::methods::sortable;
 use fragkit::oit::reference::exact_image;
@@ -22,13 +22,14 @@ use fragkit::oit::run::{Accumulation, Method, run_method};
 use fragkit::oit::scene::{Quad, QuadScene};
 use fragkit::scene::hash::SeededRng;
 use fragkit::tonemap::ldr_to_display;
+use fragkit::shaders::{FULLSCREEN, OIT_PEEL, OIT_PLAIN_COVERAGE, OIT_QUAD, OIT_SORTED_BLEND, OIT_UNDER};
 
 pub const CASE: Case = Case {
     name: "oit.baselines.exact",
     summary: "depth peeling and sorted blending equal the CPU's exact composite within f16 rounding",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec { name: "size", kind: ParamKind::SizesFrom(1), default: "64x48", help: "target size" },
+        ParamSpec { name: "size", kind: ParamKind::SizeFrom(1), default: "64x48", help: "target size" },
         ParamSpec { name: "layers", kind: ParamKind::CountIn(1, 24), default: "10", help: "transparent quads" },
         ParamSpec { name: "seed", kind: ParamKind::CountIn(0, 1 << 20), default: "4", help: "quad seed" },
     ],
@@ -38,6 +39,7 @@ pub const CASE: Case = Case {
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 1,
+    shaders: &[FULLSCREEN, OIT_QUAD, OIT_PLAIN_COVERAGE, OIT_SORTED_BLEND, OIT_PEEL, OIT_UNDER],
     run,
 };
 
@@ -136,11 +138,11 @@ fn coverage(size: (u32, u32), rects: &[PixelRect]) -> Vec<u32> {
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = ctx.params.sizes("size")?[0];
-    let layers = u32::try_from(ctx.params.count("layers")?)?;
-    let seed = u32::try_from(ctx.params.count("seed")?)?;
+    let size = ctx.params.size("size")?;
+    let layers = ctx.params.count_u32("layers")?;
+    let seed = ctx.params.count_u32("seed")?;
     let once = Accumulation { frames: 1, seed: 1, filtered: false };
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for kind in ["distinct", "ties", "tilted"] {
         let (scene, mut rects) = scene(size, layers, seed, kind == "ties");
         let (scene, uncertain) = if kind == "tilted" {
@@ -187,13 +189,13 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                     "layers_peeled": result.layers, "most_quads_on_a_pixel": deepest}),
             );
             if method == Method::DepthPeeling && result.layers != Some(deepest) {
-                problems.push(format!(
+                verdict.fail(format!(
                     "{label}: peeled {:?} layers, the deepest pixel holds {deepest} quads",
                     result.layers
                 ));
             }
             if wrong_count > 0 {
-                problems.push(format!(
+                verdict.fail(format!(
                     "{label}: {wrong_count} of {} pixels differ from the exact composite beyond (2n+1)·2^-10 (worst {worst:.1}x the bound)",
                     exact.len()
                 ));
@@ -203,5 +205,5 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             }
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

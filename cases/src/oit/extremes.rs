@@ -5,7 +5,7 @@
 //! negative or above 1 are refused with a message naming them.
 
 use anyhow::Result;
-use fragkit::harness::{Case, Ctx, Outcome};
+use fragkit::harness::{Case, Ctx, Outcome, Verdict};
 use fragkit::oit::reference::exact_image;
 use fragkit::oit::run::{Accumulation, Method, run_method};
 use fragkit::oit::scene::{Quad, QuadScene};
@@ -14,6 +14,7 @@ use fragkit::oit::stochastic::{
 };
 use fragkit::query::GpuTimer;
 use fragkit::scene::hash::SeededRng;
+use fragkit::shaders::{ALPHA_RAMP, FRAGMENT_STORAGE, FULLSCREEN, OIT_BILATERAL, OIT_NOISE_STEP, OIT_PEEL, OIT_PLAIN_COVERAGE, OIT_QUAD, OIT_SAMPLE_MASK, OIT_STOCHASTIC, OIT_TEMPORAL, OIT_UNDER, OIT_WEIGHTED_ACCUMULATE, OIT_WEIGHTED_COMPOSITE, RECT, SAMPLE_COVERAGE_RECORD};
 
 use super::multisample_counts;
 
@@ -24,6 +25,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 3,
+    shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, ALPHA_RAMP, FRAGMENT_STORAGE, OIT_QUAD, OIT_NOISE_STEP, OIT_STOCHASTIC, OIT_SAMPLE_MASK, OIT_PLAIN_COVERAGE, OIT_WEIGHTED_ACCUMULATE, OIT_WEIGHTED_COMPOSITE, OIT_PEEL, OIT_UNDER, OIT_TEMPORAL, OIT_BILATERAL],
     run,
 };
 
@@ -41,7 +43,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         Err(outcome) => return Ok(outcome),
     };
     let variants = available_variants(ctx.gpu, samples)?;
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     let target = ResolvedTarget::new(ctx.gpu, size, samples, COVERAGE_COLOUR);
     for variant in &variants {
         let name = Method::Stochastic(variant.clone()).name();
@@ -60,7 +62,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                     _ => 0,
                 };
                 if non_finite > 0 || wrong > 0 {
-                    problems.push(format!("{name} α {alpha} frame {frame}: {non_finite} non-finite values, {wrong} pixels not exactly covered"));
+                    verdict.fail(format!("{name} α {alpha} frame {frame}: {non_finite} non-finite values, {wrong} pixels not exactly covered"));
                 }
             }
         }
@@ -91,10 +93,10 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         .fold(0.0f32, f32::max);
     ctx.metric("equal_depth_64", serde_json::json!({"layers_peeled": peeled.layers, "worst_difference": worst}));
     if peeled.layers != Some(65) {
-        problems.push(format!("64 equal-depth layers: depth peeling found {:?} layers, expected 65", peeled.layers));
+        verdict.fail(format!("64 equal-depth layers: depth peeling found {:?} layers, expected 65", peeled.layers));
     }
     if worst > tolerance || peeled.image.iter().flatten().any(|v| !v.is_finite()) {
-        problems.push(format!("64 equal-depth layers: depth peeling differs from the exact composite by {worst}"));
+        verdict.fail(format!("64 equal-depth layers: depth peeling differs from the exact composite by {worst}"));
     }
     for method in [Method::Stochastic(Stochastic::Paper), Method::WeightedBlended, Method::PlainCoverage] {
         let method_samples = if method == Method::WeightedBlended { 1 } else { samples };
@@ -108,7 +110,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         )?;
         let non_finite = result.image.iter().flatten().filter(|v| !v.is_finite()).count();
         if non_finite > 0 {
-            problems.push(format!("64 equal-depth layers, {}: {non_finite} non-finite values", method.name()));
+            verdict.fail(format!("64 equal-depth layers, {}: {non_finite} non-finite values", method.name()));
         }
     }
 
@@ -116,9 +118,9 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     for bad in [f32::NAN, -0.1, 1.5] {
         match run_method(ctx.gpu, &layer(bad), size, samples, &Method::Stochastic(Stochastic::Paper), once) {
             Err(e) if format!("{e:#}").contains(&format!("opacity {bad}")) => {}
-            Err(e) => problems.push(format!("opacity {bad} refused without naming it: {e:#}")),
-            Ok(_) => problems.push(format!("opacity {bad} was rendered instead of refused")),
+            Err(e) => verdict.fail(format!("opacity {bad} refused without naming it: {e:#}")),
+            Ok(_) => verdict.fail(format!("opacity {bad} was rendered instead of refused")),
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

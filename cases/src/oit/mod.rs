@@ -1,13 +1,15 @@
 //! `oit.*`: order-independent transparency by stochastic alpha-to-coverage.
 
-pub mod a2c_transfer;
-pub mod baselines_exact;
-pub mod coverage_stats;
-pub mod extremes;
-pub mod order_independence;
-pub mod post_filter;
-pub mod quads_converges;
-pub mod weighted_blended;
+fragkit::cases! {
+    a2c_transfer: CASE;
+    a2c_coverage_stats: CASE;
+    order_independence: CASE;
+    quads_converges: CASE;
+    post_filter: CASE;
+    weighted_blended: CASE;
+    baselines_exact: CASE;
+    extremes: CASE;
+}
 
 use fragkit::Gpu;
 use fragkit::caps::{broken_sample_counts, common_sample_counts, matches_standard};

@@ -4,11 +4,12 @@
 //! when it is drawn, and the depth test resolves the rest.
 
 use anyhow::Result;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
 use fragkit::oit::scene::QuadScene;
 use fragkit::oit::stochastic::{COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, available_variants, render_stochastic};
 use fragkit::query::GpuTimer;
 use fragkit::readback::read_texture;
+use fragkit::shaders::{ALPHA_RAMP, FRAGMENT_STORAGE, FULLSCREEN, OIT_NOISE_STEP, OIT_QUAD, OIT_SAMPLE_MASK, OIT_STOCHASTIC, RECT, SAMPLE_COVERAGE_RECORD};
 
 use super::multisample_counts;
 
@@ -16,9 +17,10 @@ pub const CASE: Case = Case {
     name: "oit.order_independence",
     summary: "every draw order of the paper's quads gives a bit-identical stochastic frame",
     requires: wgpu::Features::empty(),
-    params: &[ParamSpec { name: "size", kind: ParamKind::Sizes, default: "48x48", help: "target size" }],
+    params: &[ParamSpec { name: "size", kind: ParamKind::Size, default: "48x48", help: "target size" }],
     sweep: &[Sweep { param: "size", range: SweepRange::Size { min: (4, 4), max: (128, 128) } }],
     budget_s: 3,
+    shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, ALPHA_RAMP, FRAGMENT_STORAGE, OIT_QUAD, OIT_NOISE_STEP, OIT_STOCHASTIC, OIT_SAMPLE_MASK],
     run,
 };
 
@@ -40,7 +42,7 @@ fn permutations(items: &[usize]) -> Vec<Vec<usize>> {
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = ctx.params.sizes("size")?[0];
+    let size = ctx.params.size("size")?;
     let samples = match multisample_counts(ctx.gpu)? {
         Ok(counts) => *counts.last().expect("a non-empty list"),
         Err(outcome) => return Ok(outcome),
@@ -50,7 +52,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let orders = permutations(&[1, 2, 3, 4]);
     let target = ResolvedTarget::new(ctx.gpu, size, samples, COVERAGE_COLOUR);
     let noise = PingPongNoise::new(ctx.gpu, size, 5);
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for variant in &variants {
         let mut first: Option<Vec<u8>> = None;
         let mut differing_orders = 0;
@@ -69,8 +71,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let name = fragkit::oit::run::Method::Stochastic(variant.clone()).name();
         ctx.metric(name, serde_json::json!({"orders": orders.len(), "differing_from_first": differing_orders}));
         if differing_orders > 0 {
-            problems.push(format!("{name}: {differing_orders} of {} draw orders differ from the first", orders.len()));
+            verdict.fail(format!("{name}: {differing_orders} of {} draw orders differ from the first", orders.len()));
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

@@ -8,17 +8,18 @@
 //! f16 ulp a store, so the bound is one ulp (of values ≤ 1: 2^-10) for each store a result passed.
 
 use anyhow::Result;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
 use fragkit::oit::filter::{PostFilter, read_rgb};
 use fragkit::query::GpuTimer;
 use fragkit::scene::hash::SeededRng;
+use fragkit::shaders::{FULLSCREEN, OIT_BILATERAL, OIT_TEMPORAL};
 
 pub const CASE: Case = Case {
     name: "oit.post_filter",
     summary: "temporal accumulation and bilateral filter equal CPU models of their definitions on known frames",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec { name: "size", kind: ParamKind::SizesFrom(1), default: "24x16", help: "frame size" },
+        ParamSpec { name: "size", kind: ParamKind::SizeFrom(1), default: "24x16", help: "frame size" },
         ParamSpec { name: "frames", kind: ParamKind::CountIn(1, 64), default: "6", help: "frames accumulated" },
         ParamSpec { name: "seed", kind: ParamKind::CountIn(0, 1 << 20), default: "4", help: "frame seed" },
     ],
@@ -28,6 +29,7 @@ pub const CASE: Case = Case {
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 1,
+    shaders: &[FULLSCREEN, OIT_TEMPORAL, OIT_BILATERAL],
     run,
 };
 
@@ -125,9 +127,9 @@ fn beyond(gpu: &[[f32; 3]], cpu: &[[f64; 3]], stores: u32) -> (usize, f64) {
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = ctx.params.sizes("size")?[0];
-    let count = u32::try_from(ctx.params.count("frames")?)?;
-    let known = frames(size, count, u32::try_from(ctx.params.count("seed")?)?);
+    let size = ctx.params.size("size")?;
+    let count = ctx.params.count_u32("frames")?;
+    let known = frames(size, count, ctx.params.count_u32("seed")?);
 
     // Render: the renderer's own post-filter over the known frames.
     let mut filter = PostFilter::new(ctx.gpu, size);
@@ -153,12 +155,12 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         serde_json::json!({"pixels_beyond_bound": wrong_filtered, "worst": worst_filtered, "bound": 1.0 / 1024.0}),
     );
 
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     if wrong_accumulation > 0 {
-        problems.push(format!("temporal accumulation: {wrong_accumulation} pixels differ from the running mean (worst {worst_accumulation:.2e}, bound {:.2e})", f64::from(count) / 1024.0));
+        verdict.fail(format!("temporal accumulation: {wrong_accumulation} pixels differ from the running mean (worst {worst_accumulation:.2e}, bound {:.2e})", f64::from(count) / 1024.0));
     }
     if wrong_filtered > 0 {
-        problems.push(format!("bilateral: {wrong_filtered} pixels differ from the filter's definition (worst {worst_filtered:.2e}, bound {:.2e})", 1.0 / 1024.0));
+        verdict.fail(format!("bilateral: {wrong_filtered} pixels differ from the filter's definition (worst {worst_filtered:.2e}, bound {:.2e})", 1.0 / 1024.0));
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

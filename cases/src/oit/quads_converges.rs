@@ -8,7 +8,7 @@
 //! floors are reported.
 
 use anyhow::{Context, Result};
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
 use fragkit::oit::filter::{PostFilter, read_rgb};
 use fragkit::oit::reference::{exact_image, rmse};
 use fragkit::oit::scene::QuadScene;
@@ -19,6 +19,7 @@ use fragkit::oit::stochastic::{
 use fragkit::probe::sample_positions::{measure, standard_positions};
 use fragkit::probe::sample_projections::measure_projections;
 use fragkit::query::GpuTimer;
+use fragkit::shaders::{ALPHA_RAMP, FRAGMENT_STORAGE, FULLSCREEN, OIT_BILATERAL, OIT_NOISE_STEP, OIT_QUAD, OIT_SAMPLE_MASK, OIT_STOCHASTIC, OIT_TEMPORAL, RECT, SAMPLE_COVERAGE_RECORD};
 
 use super::multisample_counts;
 
@@ -26,9 +27,10 @@ pub const CASE: Case = Case {
     name: "oit.quads.converges",
     summary: "accumulated stochastic transparency converges to the exact composite like 1/sqrt(frames)",
     requires: wgpu::Features::empty(),
-    params: &[ParamSpec { name: "size", kind: ParamKind::Sizes, default: "64x64", help: "target size" }],
+    params: &[ParamSpec { name: "size", kind: ParamKind::Size, default: "64x64", help: "target size" }],
     sweep: &[Sweep { param: "size", range: SweepRange::Size { min: (8, 8), max: (128, 128) } }],
     budget_s: 4,
+    shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, ALPHA_RAMP, FRAGMENT_STORAGE, OIT_QUAD, OIT_NOISE_STEP, OIT_STOCHASTIC, OIT_SAMPLE_MASK, OIT_TEMPORAL, OIT_BILATERAL],
     run,
 };
 
@@ -45,7 +47,7 @@ fn log_slope(points: &[(u32, f64)]) -> f64 {
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = ctx.params.sizes("size")?[0];
+    let size = ctx.params.size("size")?;
     let frames = *CHECKPOINTS.last().expect("checkpoints");
     let samples = match multisample_counts(ctx.gpu)? {
         Ok(counts) => *counts.last().expect("a non-empty list"),
@@ -78,7 +80,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     // does not build is the translator's bug (a failure), not a missing capability.
     let sample_mask = sample_mask_output(ctx.gpu, samples);
     let target = ResolvedTarget::new(ctx.gpu, size, samples, COVERAGE_COLOUR);
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for variant in &variants {
         let mut noise = PingPongNoise::new(ctx.gpu, size, 11);
         let mut filter = PostFilter::new(ctx.gpu, size);
@@ -99,15 +101,15 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let name = fragkit::oit::run::Method::Stochastic(variant.clone()).name();
         ctx.metric(name, serde_json::json!({"rmse": errors, "slope_1_to_16": slope_early, "slope": slope_all}));
         if *variant == Stochastic::SampleMask && !(-0.65..=-0.35).contains(&slope_all) {
-            problems
-                .push(format!("{name}: error slope {slope_all:.3} over {CHECKPOINTS:?} frames, expected -0.5 ± 0.15"));
+            verdict
+                .fail(format!("{name}: error slope {slope_all:.3} over {CHECKPOINTS:?} frames, expected -0.5 ± 0.15"));
         }
     }
     if let Err(e) = sample_mask {
-        problems.push(format!(
+        verdict.fail(format!(
             "the @builtin(sample_mask) output pipeline, needed for the unbiased variant, does not build: {e} \
              (the alpha-to-coverage slopes are reported)"
         ));
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

@@ -14,6 +14,7 @@ use fragkit::oit::scene::{Quad, QuadScene};
 use fragkit::oit::stochastic::{COLOUR, ResolvedTarget};
 use fragkit::query::GpuTimer;
 use fragkit::scene::hash::SeededRng;
+use fragkit::shaders::{FULLSCREEN, OIT_PLAIN_COVERAGE, OIT_QUAD, OIT_WEIGHTED_ACCUMULATE, OIT_WEIGHTED_COMPOSITE};
 
 pub const CASE: Case = Case {
     name: "oit.weighted_blended",
@@ -28,6 +29,7 @@ pub const CASE: Case = Case {
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 1,
+    shaders: &[FULLSCREEN, OIT_QUAD, OIT_PLAIN_COVERAGE, OIT_WEIGHTED_ACCUMULATE, OIT_WEIGHTED_COMPOSITE],
     run,
 };
 
@@ -66,8 +68,8 @@ fn expected(scene: &QuadScene) -> ([f64; 3], [f64; 3]) {
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let count = u32::try_from(ctx.params.count("layers")?)?;
-    let scene = layers(count, u32::try_from(ctx.params.count("seed")?)?);
+    let count = ctx.params.count_u32("layers")?;
+    let scene = layers(count, ctx.params.count_u32("seed")?);
 
     let target = ResolvedTarget::new(ctx.gpu, SIZE, 1, COLOUR);
     render_weighted(ctx.gpu, &scene, &target, &mut GpuTimer::new(ctx.gpu, 3))?;

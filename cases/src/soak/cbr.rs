@@ -7,6 +7,7 @@ use fragkit::cbr::{Checkerboard, CheckerboardConfig, Shading};
 use fragkit::gpu::Gpu;
 use fragkit::harness::{Case, Ctx, Outcome};
 use fragkit::readback::read_texture;
+use fragkit::shaders::{CBR_RECONSTRUCT, CBR_SCENE, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, FRAGMENT_STORAGE, FULLSCREEN, RECT, SAMPLE_COVERAGE_RECORD};
 
 use super::{PARAMS, Soaked, soak};
 
@@ -17,6 +18,7 @@ pub const CASE: Case = Case {
     params: PARAMS,
     sweep: &[],
     budget_s: 11,
+    shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE, CBR_SCENE, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, CBR_RECONSTRUCT],
     run,
 };
 

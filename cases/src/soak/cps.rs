@@ -11,6 +11,7 @@ use fragkit::harness::{Case, Ctx, Outcome};
 use fragkit::query::GpuTimer;
 use fragkit::readback::read_texture;
 use fragkit::scene::corridor::{Scene, corridor};
+use fragkit::shaders::{CPS_COMPOSITE, CPS_LIGHTING, CPS_LOD, CPS_STENCIL_MARK, FULLSCREEN, GBUFFER, RECT};
 
 use super::{PARAMS, Soaked, soak};
 
@@ -21,6 +22,7 @@ pub const CASE: Case = Case {
     params: PARAMS,
     sweep: &[],
     budget_s: 44,
+    shaders: &[RECT, FULLSCREEN, GBUFFER, CPS_LOD, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
 };
 

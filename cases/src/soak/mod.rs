@@ -4,13 +4,15 @@
 //! the process's resident memory may grow by less than 5 %; and the last frame must equal, bit for
 //! bit, a fresh render of it — new objects replaying the frames since the last resize.
 
-pub mod cbr;
-pub mod cps;
-pub mod oit;
+fragkit::cases! {
+    cps: CASE;
+    oit: CASE;
+    cbr: CASE;
+}
 
 use anyhow::{Context, Result, bail};
 use fragkit::gpu::Gpu;
-use fragkit::harness::{Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::harness::{Ctx, Outcome, ParamKind, ParamSpec, Verdict};
 
 pub const PARAMS: &[ParamSpec] = &[
     ParamSpec { name: "frames", kind: ParamKind::CountIn(4, 1_000_000), default: "1000", help: "frames rendered" },
@@ -49,8 +51,8 @@ pub fn soak<T: Soaked>(ctx: &mut Ctx) -> Result<Outcome> {
     if resident_bytes().is_err() {
         return Ok(Outcome::NotSupported("resident memory: /proc/self/status has no VmRSS here".into()));
     }
-    let frames = u32::try_from(ctx.params.count("frames")?)?;
-    let every = u32::try_from(ctx.params.count("resize_every")?)?;
+    let frames = ctx.params.count_u32("frames")?;
+    let every = ctx.params.count_u32("resize_every")?;
     let warm_up = (every * SIZES.len() as u32).min(frames - 1);
     let (mut technique, mut segment_start) = (T::new(ctx.gpu, SIZES[0])?, 0);
     let mut resident_after_warm_up = 0;
@@ -91,9 +93,9 @@ pub fn soak<T: Soaked>(ctx: &mut Ctx) -> Result<Outcome> {
     ctx.metric("resident_mib_peak_after_warm_up", resident_peak as f64 / 1048576.0);
     ctx.metric("resident_growth", growth);
     ctx.metric("last_frame_bytes_differing_from_fresh", differing);
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     if growth >= MAX_GROWTH {
-        problems.push(format!(
+        verdict.fail(format!(
             "resident memory grew {:.1} % after warm-up ({:.1} → {:.1} MiB peak), at most {:.0} % allowed",
             100.0 * growth,
             resident_after_warm_up as f64 / 1048576.0,
@@ -102,10 +104,10 @@ pub fn soak<T: Soaked>(ctx: &mut Ctx) -> Result<Outcome> {
         ));
     }
     if differing > 0 {
-        problems.push(format!("the last frame differs from a fresh render of it in {differing} bytes"));
+        verdict.fail(format!("the last frame differs from a fresh render of it in {differing} bytes"));
     }
     if last.is_empty() {
         bail!("the soak read back an empty output");
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

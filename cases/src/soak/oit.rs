@@ -12,6 +12,7 @@ use fragkit::oit::stochastic::{
 };
 use fragkit::query::GpuTimer;
 use fragkit::readback::read_texture;
+use fragkit::shaders::{ALPHA_RAMP, FULLSCREEN, OIT_BILATERAL, OIT_NOISE_STEP, OIT_QUAD, OIT_SAMPLE_MASK, OIT_STOCHASTIC, OIT_TEMPORAL, RECT};
 
 use super::{PARAMS, Soaked, soak};
 
@@ -22,6 +23,7 @@ pub const CASE: Case = Case {
     params: PARAMS,
     sweep: &[],
     budget_s: 34,
+    shaders: &[RECT, FULLSCREEN, ALPHA_RAMP, OIT_QUAD, OIT_NOISE_STEP, OIT_STOCHASTIC, OIT_SAMPLE_MASK, OIT_TEMPORAL, OIT_BILATERAL],
     run,
 };
 

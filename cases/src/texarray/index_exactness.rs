@@ -9,9 +9,10 @@
 //! everywhere.
 
 use anyhow::Result;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
 use fragkit::texarray::model::possible_elements;
 use fragkit::texarray::{measure_index_exactness, sweep_indices};
+use fragkit::shaders::{FULLSCREEN, TEXARRAY_FETCH};
 
 pub const CASE: Case = Case {
     name: "texarray.index_exactness",
@@ -19,24 +20,25 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: &[ParamSpec {
         name: "size",
-        kind: ParamKind::Sizes,
+        kind: ParamKind::Size,
         default: "4096x4097",
         help: "array texture size (4096x4097 holds 2^24 + 4096 elements)",
     }],
     sweep: &[Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (4096, 4097) } }],
     budget_s: 2,
+    shaders: &[FULLSCREEN, TEXARRAY_FETCH],
     run,
 };
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = ctx.params.sizes("size")?[0];
+    let size = ctx.params.size("size")?;
     let elements = size.0 * size.1;
     let indices = sweep_indices(elements);
     ctx.metric("elements", elements);
     ctx.metric("indices_tried", indices.len());
 
     let results = measure_index_exactness(ctx.gpu, size, &indices)?;
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for result in &results {
         let name = format!("{:?}", result.variant).to_lowercase();
         ctx.metric(&name, result);
@@ -54,12 +56,12 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         ctx.metric(&format!("{name}.outside_the_model"), outside.len());
         if let Some((k, got, a)) = outside.first() {
             let shown: Vec<u64> = a.iter().copied().take(8).collect();
-            problems.push(format!(
+            verdict.fail(format!(
                 "{name}: index {k} fetched element {got}, which its definition cannot give (it may give {shown:?}); {} of {} indices so",
                 outside.len(),
                 indices.len()
             ));
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

@@ -1,3 +1,5 @@
 //! `texarray.*`: 2D textures used as 1D arrays (how the CPS lights are stored).
 
-pub mod index_exactness;
+fragkit::cases! {
+    index_exactness: CASE;
+}

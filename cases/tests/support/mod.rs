@@ -11,6 +11,7 @@ use std::sync::{Mutex, OnceLock};
 
 use fragkit::harness::Case;
 use fragkit::harness::runner::run_case;
+use fragkit::shaders::ShaderFile;
 use fragkit::{AdapterSelector, Gpu};
 use fragkit_report::expectations::Expectations;
 use fragkit_report::report::CaseRecord;
@@ -27,10 +28,14 @@ pub fn expectations() -> Expectations {
     Expectations::parse(fragkit_cases::EXPECTATIONS, "cases/expectations.toml").expect("built-in expectations parse")
 }
 
-/// Runs one registered case on the shared GPU with its default parameters.
-pub fn run(name: &str) -> (CaseRecord, String) {
-    let case = fragkit_cases::ALL.iter().find(|c| c.name == name).unwrap_or_else(|| panic!("no case {name}"));
-    run_with(case, &BTreeMap::new())
+/// Runs one registered case on the shared GPU with its default parameters; also returns the
+/// shader files modules were built from while it ran.
+pub fn run(name: &str) -> (CaseRecord, String, Vec<ShaderFile>) {
+    let case = fragkit_cases::all().iter().find(|c| c.name == name).unwrap_or_else(|| panic!("no case {name}"));
+    let gpu = gpu().lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    gpu.take_shader_files();
+    let record = run_case(&gpu, case, &BTreeMap::new(), &expectations(), None);
+    (record, gpu.description.slug(), gpu.take_shader_files())
 }
 
 /// Runs one case on the shared GPU with `overrides` applied to its parameters.

@@ -13,6 +13,7 @@ use crate::gpu::Gpu;
 use crate::probe::sample_positions::{RecordStorage, record_fragments, storage_pair};
 use crate::readback::read_rgba8;
 use crate::rects::{Rect, RectBatch, RectFragment, RectPipeline};
+use crate::shaders;
 
 /// The full-resolution pixel each of a quarter pixel's two samples landed on (None: no rect there).
 pub type Landing = [Option<(u32, u32)>; 2];
@@ -102,7 +103,7 @@ pub fn measure_landing(gpu: &Gpu, screen: (u32, u32), path: CheckerboardPath, ph
                 gpu,
                 quarter,
                 2,
-                RectFragment::SamplePixelRecord,
+                RectFragment::Shader { file: shaders::CBR_SAMPLE_ID_RECORD, entry: "fs_record_sample_pixel" },
                 &rects,
                 &[grid.as_entire_binding(), storage.as_entire_binding()],
                 RecordStorage { buffer: &storage, readback: &readback, fill: NOTHING },

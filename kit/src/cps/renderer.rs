@@ -235,7 +235,7 @@ impl CpsRenderer {
         let light_pipeline = match &foveated {
             Some(_) => RectPipeline {
                 colour_format: Some(HDR),
-                fragment: RectFragment::CpsFoveatedLevelLighting,
+                fragment: RectFragment::Shader { file: shaders::CPS_LIGHTING, entry: "fs_light_level_foveated" },
                 depth_stencil: lit_where_marked,
                 ..RectPipeline::new("light level spans")
             }

@@ -84,7 +84,7 @@ impl StencilMarks {
         let pipeline = RectPipeline {
             colour_format: Some(HDR),
             colour_writes: wgpu::ColorWrites::empty(),
-            fragment: RectFragment::FoveatedStencilMark,
+            fragment: RectFragment::Shader { file: shaders::CPS_STENCIL_MARK, entry: "fs_stencil_mark_foveated" },
             depth_stencil: Some(stencil_replace(STENCIL)),
             ..RectPipeline::new("foveated stencil marks")
         }

@@ -6,9 +6,10 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use serde::Serialize;
 
+use super::params::Sweep;
 use super::params::{ParamSpec, Params};
-use super::sweep::Sweep;
 use crate::gpu::Gpu;
+use crate::shaders::ShaderFile;
 
 /// What a case concluded.
 #[derive(Clone, Debug, PartialEq)]
@@ -21,6 +22,7 @@ pub enum Outcome {
 }
 
 /// A case, declared as data; `run` reads top to bottom as setup → render → measure → compare.
+#[derive(Clone, Copy)]
 pub struct Case {
     /// Hierarchical name: `area.subject.aspect`.
     pub name: &'static str,
@@ -34,6 +36,10 @@ pub struct Case {
     /// matrix (rounded up from its measured wall time, device opening excluded): what its
     /// timeout in a supervised run follows from.
     pub budget_s: u32,
+    /// The shader files its pipelines are built from, from the kit's shader table (with the
+    /// module that builds each): one hop from the case to its shaders and technique. A case
+    /// whose run builds a file it does not list fails its test (cases/tests/cases.rs).
+    pub shaders: &'static [ShaderFile],
     pub run: fn(&mut Ctx) -> Result<Outcome>,
 }
 
@@ -48,6 +54,7 @@ impl Case {
             params: &[],
             sweep: &[],
             budget_s: 1,
+            shaders: &[],
             run: |_| Ok(Outcome::Pass),
         }
     }

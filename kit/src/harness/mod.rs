@@ -9,13 +9,15 @@ pub mod case;
 pub mod child_process;
 pub mod diagnostics;
 pub mod params;
+pub mod registry;
 pub mod run;
 pub mod runner;
 pub mod stream;
 pub mod suite;
 pub mod supervise;
 pub mod sweep;
+pub mod verdict;
 
 pub use case::{Case, Ctx, Outcome};
-pub use params::{ParamKind, ParamSpec};
-pub use sweep::{Sweep, SweepRange};
+pub use params::{ParamKind, ParamSpec, Sweep, SweepRange};
+pub use verdict::Verdict;

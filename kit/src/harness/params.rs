@@ -18,6 +18,10 @@ pub enum ParamKind {
     Sizes,
     /// Sizes whose sides are all at least this.
     SizesFrom(u32),
+    /// One size: `64x48` (recorded as a list of one, as `Sizes` records it).
+    Size,
+    /// One size whose sides are both at least this.
+    SizeFrom(u32),
 }
 
 /// A parameter a case declares.
@@ -63,7 +67,19 @@ impl ParamKind {
                 }
                 ParamValue::Sizes(sizes)
             }
+            ParamKind::Size => ParamKind::SizeFrom(1).parse(text)?,
+            ParamKind::SizeFrom(min) => {
+                if text.contains(',') {
+                    bail!("{text:?} is a list; this parameter takes one size, like 64x48");
+                }
+                ParamKind::SizesFrom(min).parse(text)?
+            }
         })
+    }
+
+    /// Whether values of this kind are sizes (a list, or one).
+    pub fn is_size(self) -> bool {
+        matches!(self, Self::Sizes | Self::SizesFrom(_) | Self::Size | Self::SizeFrom(_))
     }
 }
 
@@ -112,12 +128,43 @@ impl Params {
         }
     }
 
+    /// A count that a 32-bit quantity takes (a seed, a frame count): a value past `u32::MAX` is
+    /// an error, never truncated.
+    pub fn count_u32(&self, name: &str) -> Result<u32> {
+        let value = self.count(name)?;
+        u32::try_from(value).with_context(|| format!("parameter {name:?} = {value} does not fit in 32 bits"))
+    }
+
+    /// A parameter of one size (`ParamKind::Size`).
+    pub fn size(&self, name: &str) -> Result<(u32, u32)> {
+        match self.sizes(name)?.as_slice() {
+            [size] => Ok(*size),
+            sizes => bail!("parameter {name:?} holds {} sizes where one is taken", sizes.len()),
+        }
+    }
+
     pub fn sizes(&self, name: &str) -> Result<Vec<(u32, u32)>> {
         match self.get(name)? {
             ParamValue::Sizes(v) => Ok(v.clone()),
             other => bail!("parameter {name:?} is {other:?}, not a list of sizes"),
         }
     }
+}
+
+/// The range a parameter may take in a sweep.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SweepRange {
+    /// An integer in `min..=max`, drawn log-uniformly (as many small values as large ones).
+    Count(u64, u64),
+    /// One size whose width and height are each drawn log-uniformly between the corners.
+    Size { min: (u32, u32), max: (u32, u32) },
+}
+
+/// A parameter a case lets sweeps vary, and its range; the others keep their defaults.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Sweep {
+    pub param: &'static str,
+    pub range: SweepRange,
 }
 
 /// Parses `--set key=value` arguments.
@@ -131,4 +178,36 @@ pub fn parse_overrides(sets: &[String]) -> Result<BTreeMap<String, String>> {
         }
     }
     Ok(overrides)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SPECS: &[ParamSpec] = &[
+        ParamSpec { name: "size", kind: ParamKind::SizeFrom(2), default: "8x4", help: "" },
+        ParamSpec { name: "seed", kind: ParamKind::Count, default: "1", help: "" },
+    ];
+
+    fn resolved(sets: &[(&str, &str)]) -> Result<Params> {
+        let overrides = sets.iter().map(|(k, v)| ((*k).to_owned(), (*v).to_owned())).collect();
+        Params::resolve("kit.example", SPECS, &overrides)
+    }
+
+    #[test]
+    fn a_single_size_is_one_size_recorded_as_a_list_of_one() {
+        let params = resolved(&[("size", "7x5")]).unwrap();
+        assert_eq!(params.size("size").unwrap(), (7, 5));
+        assert_eq!(params.to_map()["size"], ParamValue::Sizes(vec![(7, 5)]));
+        for bad in ["7x5,9x9", "1x5", "7x"] {
+            assert!(resolved(&[("size", bad)]).is_err(), "size {bad} accepted");
+        }
+    }
+
+    #[test]
+    fn a_32_bit_count_past_u32_is_refused_not_truncated() {
+        assert_eq!(resolved(&[("seed", "4294967295")]).unwrap().count_u32("seed").unwrap(), u32::MAX);
+        let error = resolved(&[("seed", "4294967296")]).unwrap().count_u32("seed").unwrap_err();
+        assert!(format!("{error:#}").contains("does not fit in 32 bits"), "{error:#}");
+    }
 }

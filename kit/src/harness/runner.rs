@@ -11,7 +11,7 @@ use glob::Pattern;
 
 use super::case::{Case, Ctx, Outcome};
 use super::diagnostics;
-use super::params::{ParamKind, Params};
+use super::params::Params;
 use crate::gpu::Gpu;
 use fragkit_report::expectations::{Expectations, KnownIssue};
 use fragkit_report::report::{CaseRecord, ReportedOutcome};
@@ -74,7 +74,7 @@ pub fn check_sizes(gpu: &Gpu, cases: &[&Case], overrides: &BTreeMap<String, Stri
     let max = gpu.device.limits().max_texture_dimension_2d;
     for case in cases {
         let params = Params::resolve(case.name, case.params, overrides)?;
-        for spec in case.params.iter().filter(|s| matches!(s.kind, ParamKind::Sizes | ParamKind::SizesFrom(_))) {
+        for spec in case.params.iter().filter(|s| s.kind.is_size()) {
             let source = if overrides.contains_key(spec.name) { "--set" } else { "the default" };
             for (w, h) in params.sizes(spec.name)? {
                 if w > max || h > max {

@@ -1,4 +1,4 @@
-//! Parameter sweeps: each case declares the ranges its parameters may take ([`Sweep`]), and a
+//! Parameter sweeps: each case declares the ranges its parameters may take (`params::Sweep`), and a
 //! seeded draw picks parameter sets inside them, so a case is checked across its declared space
 //! rather than only at its defaults (`fragkit check --sweep N --seed S`, and the property test in
 //! `cases/tests/sweep.rs`). Every drawn set prints as the `--set` line that reproduces it.
@@ -6,23 +6,8 @@
 use std::collections::BTreeMap;
 
 use super::case::Case;
+use super::params::SweepRange;
 use crate::scene::hash::{SeededRng, pcg_hash};
-
-/// The range a parameter may take in a sweep.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SweepRange {
-    /// An integer in `min..=max`, drawn log-uniformly (as many small values as large ones).
-    Count(u64, u64),
-    /// One size whose width and height are each drawn log-uniformly between the corners.
-    Size { min: (u32, u32), max: (u32, u32) },
-}
-
-/// A parameter a case lets sweeps vary, and its range; the others keep their defaults.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Sweep {
-    pub param: &'static str,
-    pub range: SweepRange,
-}
 
 /// Log-uniform integer in `min..=max`.
 fn log_uniform(rng: &mut SeededRng, min: u64, max: u64) -> u64 {
@@ -69,7 +54,7 @@ pub fn reproduce_line(command: &str, case: &Case, overrides: &BTreeMap<String, S
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::harness::{Outcome, ParamKind, ParamSpec};
+    use crate::harness::{Outcome, ParamKind, ParamSpec, Sweep};
 
     const CASE: Case = Case {
         name: "kit.example",
@@ -84,6 +69,7 @@ mod tests {
             Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (300, 200) } },
         ],
         budget_s: 1,
+        shaders: &[],
         run: |_| Ok(Outcome::Pass),
     };
 

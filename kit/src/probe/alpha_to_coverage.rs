@@ -12,6 +12,7 @@ use crate::fullscreen::{bind_group, uniform_buffer};
 use crate::gpu::Gpu;
 use crate::readback::read_rgba8;
 use crate::rects::{Rect, RectBatch, RectFragment, RectPipeline};
+use crate::shaders;
 
 /// Alpha steps of the sweep: alpha = column / ALPHA_STEPS.
 pub const ALPHA_STEPS: u32 = 256;
@@ -57,7 +58,7 @@ pub fn measure_alpha_to_coverage(gpu: &Gpu, samples: u32, sample_mask_honoured: 
         let ramp = |sample_mask: u64| -> Result<image::RgbaImage> {
             let pipeline = RectPipeline {
                 colour_format: Some(format),
-                fragment: RectFragment::AlphaRamp,
+                fragment: RectFragment::Shader { file: shaders::ALPHA_RAMP, entry: "fs_alpha_ramp" },
                 samples,
                 sample_mask,
                 alpha_to_coverage: true,

@@ -15,7 +15,7 @@ use crate::shaders;
 /// None when a fragment shader's storage writes land; else what the probe saw, in a sentence.
 /// Measured once per device.
 pub fn fragment_storage_problem(gpu: &Gpu) -> Result<Option<String>> {
-    gpu.probed_once(&gpu.fragment_storage, measure)
+    gpu.probed_once("fragment_storage", measure)
 }
 
 fn measure(gpu: &Gpu) -> Result<Option<String>> {

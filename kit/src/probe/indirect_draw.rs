@@ -23,7 +23,7 @@ const DRAWN: [u8; 4] = [0, 255, 0, 255];
 /// None when indirect draws render here, also after a freed vertex buffer; else what the probe
 /// saw, in a sentence. Measured once per device.
 pub fn indirect_draw_problem(gpu: &Gpu) -> Result<Option<String>> {
-    gpu.probed_once(&gpu.indirect_draw, measure)
+    gpu.probed_once("indirect_draw", measure)
 }
 
 fn measure(gpu: &Gpu) -> Result<Option<String>> {

@@ -20,6 +20,7 @@ use crate::gpu::Gpu;
 use crate::query::OcclusionQueries;
 use crate::readback::{map_buffer, read_rgba8};
 use crate::rects::{Rect, RectBatch, RectFragment, RectPipeline, stencil_equal, stencil_replace};
+use crate::shaders;
 
 /// Sweep steps per pixel: the sub-pixel precision probe's resolution (8 bits, the finest grid
 /// seen on real rasterisers; the specifications promise only 4).
@@ -344,7 +345,7 @@ fn covered_counts_by_storage(gpu: &Gpu, samples: u32, axis: Axis) -> Result<Vec<
         gpu,
         size,
         samples,
-        RectFragment::SampleCoverageRecord,
+        RectFragment::Shader { file: shaders::SAMPLE_COVERAGE_RECORD, entry: "fs_record_sample" },
         &axis.sweep_rects(),
         &[strip.as_entire_binding(), storage.as_entire_binding()],
         RecordStorage { buffer: &storage, readback: &readback, fill: 0 },
@@ -381,7 +382,7 @@ pub fn measure_per_sample_shading(gpu: &Gpu, samples: u32) -> Result<PerSampleSh
             gpu,
             (1, 1),
             samples,
-            RectFragment::SamplePosition,
+            RectFragment::Shader { file: shaders::SAMPLE_POSITION, entry: "fs_sample_position" },
             &[(Rect::full(1, 1), [1.0; 4])],
             &[storage.as_entire_binding()],
             RecordStorage { buffer: &storage, readback: &readback, fill: 0 },

@@ -4,9 +4,10 @@
 
 use anyhow::Result;
 use fragkit::caps::common_sample_counts;
-use fragkit::harness::{Case, Ctx, Outcome};
+use fragkit::harness::{Case, Ctx, Outcome, Verdict};
 use fragkit::probe::multisample_render::render_problem;
 use fragkit::probe::sample_mask::measure_sample_mask;
+use fragkit::shaders::RECT;
 
 pub const CASE: Case = Case {
     name: "kit.msaa.sample_mask",
@@ -15,6 +16,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    shaders: &[RECT],
     run,
 };
 
@@ -23,18 +25,18 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     if multisampled.is_empty() {
         return Ok(Outcome::NotSupported("multisampling".into()));
     }
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for samples in multisampled {
         if let Some(problem) = render_problem(ctx.gpu, samples)? {
-            problems.push(problem);
+            verdict.fail(problem);
             continue;
         }
         let results = measure_sample_mask(ctx.gpu, samples)?;
         for r in results.iter().filter(|r| !r.honoured()) {
-            problems
-                .push(format!("{samples}x mask {:#b}: resolved {}, expected {} (±1)", r.mask, r.resolved, r.expected));
+            verdict
+                .fail(format!("{samples}x mask {:#b}: resolved {}, expected {} (±1)", r.mask, r.resolved, r.expected));
         }
         ctx.metric(&format!("{samples}x"), &results);
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

@@ -7,10 +7,11 @@
 //! composite keeps its levels in one atlas, so it reads at per-pixel offsets, never at per-pixel
 //! levels, and is correct where this probe fails (GL llvmpipe).
 
-use anyhow::{Context, Result};
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use anyhow::Result;
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
 use fragkit::image_compare::side_by_side;
 use fragkit::probe::mip_fetch::{PRESENT, levels, measure};
+use fragkit::shaders::{FULLSCREEN, MIP_FETCH};
 use image::{Rgba, RgbaImage};
 
 pub const CASE: Case = Case {
@@ -20,14 +21,15 @@ pub const CASE: Case = Case {
     params: &[
         ParamSpec {
             name: "size",
-            kind: ParamKind::Sizes,
+            kind: ParamKind::Size,
             default: "64x64",
             help: "target and base mip size (powers of two, at most 4096)",
         },
-        ParamSpec { name: "seed", kind: ParamKind::Count, default: "1", help: "seed of the level maps" },
+        ParamSpec { name: "seed", kind: ParamKind::CountIn(0, u32::MAX as u64), default: "1", help: "seed of the level maps" },
     ],
     sweep: &[Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) }],
     budget_s: 1,
+    shaders: &[FULLSCREEN, MIP_FETCH],
     run,
 };
 
@@ -50,21 +52,21 @@ fn picture(values: &[u32], size: (u32, u32), levels: u32) -> RgbaImage {
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     // Setup, render and measure: seeded level maps of every block size, fetched both ways.
-    let size = *ctx.params.sizes("size")?.first().context("size")?;
-    let seed = ctx.params.count("seed")? as u32;
+    let size = ctx.params.size("size")?;
+    let seed = ctx.params.count_u32("seed")?;
     let measurements = measure(ctx.gpu, size, seed)?;
     let levels = levels(size);
     ctx.metric("levels", levels);
 
     // Compare with the expectation: each pixel reads its own level's texel p >> level.
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for m in &measurements {
         let wrong = m.wrong();
         let label = format!("{}.{}x{}", m.way, m.block, m.block);
         ctx.metric(&format!("{label}.wrong_fetches"), wrong.len());
         let Some(&first) = wrong.first() else { continue };
         let (x, y) = (first as u32 % size.0, first as u32 / size.0);
-        problems.push(format!(
+        verdict.fail(format!(
             "level {} per {}x{} block: {} of {} fetches read another texel (pixel ({x}, {y}) at level {} read {})",
             m.way,
             m.block,
@@ -81,5 +83,5 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         let evidence = side_by_side(&picture(&m.fetched, size, levels), &picture(&m.expected, size, levels), &mask);
         ctx.evidence_image(&label, &evidence)?;
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

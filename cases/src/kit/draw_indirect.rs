@@ -6,6 +6,7 @@
 use anyhow::Result;
 use fragkit::harness::{Case, Ctx, Outcome};
 use fragkit::probe::indirect_draw::indirect_draw_problem;
+use fragkit::shaders::{FULLSCREEN, INDIRECT_DRAW, RECT};
 
 pub const CASE: Case = Case {
     name: "kit.draw.indirect",
@@ -14,6 +15,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    shaders: &[RECT, FULLSCREEN, INDIRECT_DRAW],
     run,
 };
 

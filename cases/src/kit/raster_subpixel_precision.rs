@@ -5,6 +5,7 @@
 use anyhow::Result;
 use fragkit::harness::{Case, Ctx, Outcome};
 use fragkit::probe::subpixel_precision::{COARSEST_BITS, measure};
+use fragkit::shaders::SLOPED_EDGE;
 
 pub const CASE: Case = Case {
     name: "kit.raster.subpixel_precision",
@@ -13,6 +14,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    shaders: &[SLOPED_EDGE],
     run,
 };
 

@@ -9,7 +9,7 @@
 //! - α = 0 and α = 1: exactly no and full coverage.
 
 use anyhow::Result;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
 use fragkit::oit::scene::{Quad, QuadScene};
 use fragkit::oit::stochastic::{
     COVERAGE_COLOUR, PingPongNoise, ResolvedTarget, Stochastic, exact_alpha_table, render_stochastic,
@@ -17,6 +17,7 @@ use fragkit::oit::stochastic::{
 };
 use fragkit::probe::alpha_to_coverage::{ALPHA_STEPS, AlphaToCoverage, measure_alpha_to_coverage};
 use fragkit::query::GpuTimer;
+use fragkit::shaders::{ALPHA_RAMP, FRAGMENT_STORAGE, FULLSCREEN, OIT_NOISE_STEP, OIT_QUAD, OIT_SAMPLE_MASK, OIT_STOCHASTIC, RECT, SAMPLE_COVERAGE_RECORD};
 
 use super::multisample_counts;
 
@@ -25,7 +26,7 @@ pub const CASE: Case = Case {
     summary: "mean coverage of f^γ (corrected, sample-mask, paper) matches its expectation within 5 sigma",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec { name: "size", kind: ParamKind::Sizes, default: "64x64", help: "pixels per frame" },
+        ParamSpec { name: "size", kind: ParamKind::Size, default: "64x64", help: "pixels per frame" },
         ParamSpec {
             name: "frames",
             kind: ParamKind::CountIn(1, 100000),
@@ -38,6 +39,7 @@ pub const CASE: Case = Case {
         Sweep { param: "frames", range: SweepRange::Count(1, 32) },
     ],
     budget_s: 8,
+    shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, ALPHA_RAMP, FRAGMENT_STORAGE, OIT_QUAD, OIT_NOISE_STEP, OIT_STOCHASTIC, OIT_SAMPLE_MASK],
     run,
 };
 
@@ -61,13 +63,13 @@ fn quantised_expectation(transfer: &AlphaToCoverage, alpha: f64) -> (f64, f64) {
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    let size = ctx.params.sizes("size")?[0];
-    let frames = u32::try_from(ctx.params.count("frames")?)?.max(1);
+    let size = ctx.params.size("size")?;
+    let frames = ctx.params.count_u32("frames")?.max(1);
     let counts = match multisample_counts(ctx.gpu)? {
         Ok(counts) => counts,
         Err(outcome) => return Ok(outcome),
     };
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     for samples in counts {
         let transfer = measure_alpha_to_coverage(ctx.gpu, samples, false)?;
         let mut variants = vec![("paper", Stochastic::Paper)];
@@ -80,7 +82,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
         match sample_mask_output(ctx.gpu, samples) {
             Ok(()) => variants.push(("sample_mask", Stochastic::SampleMask)),
             Err(e) => {
-                problems.push(format!("{samples}x: the @builtin(sample_mask) output pipeline does not build: {e}"))
+                verdict.fail(format!("{samples}x: the @builtin(sample_mask) output pipeline does not build: {e}"))
             }
         }
         let target = ResolvedTarget::new(ctx.gpu, size, samples, COVERAGE_COLOUR);
@@ -116,7 +118,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                 let ok = mean >= lo - spread(lo) && mean <= hi + spread(hi);
                 rows.push(serde_json::json!({"alpha": alpha, "mean": mean, "expected": [lo, hi], "bound": spread(hi.max(lo)), "bias": mean - f64::from(alpha)}));
                 if !ok {
-                    problems.push(format!(
+                    verdict.fail(format!(
                         "{samples}x {name}: α {alpha}: mean coverage {mean:.5}, expected {lo:.5}..{hi:.5} ± {:.5}",
                         spread(hi)
                     ));
@@ -125,5 +127,5 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             ctx.metric(&format!("{samples}x.{name}"), rows);
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }

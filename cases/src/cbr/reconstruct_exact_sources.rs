@@ -20,14 +20,15 @@ use fragkit::cbr::model::{Expected, ReconstructionModel};
 use fragkit::cbr::model_comparison::Comparison;
 use fragkit::cbr::sampling::CheckerboardPath;
 use fragkit::cbr::{Checkerboard, CheckerboardConfig, Detection, Shading};
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
+use fragkit::shaders::{CBR_RECONSTRUCT, CBR_SCENE, CBR_SHADE_MSAA_SAMPLES, CBR_SHADE_SAMPLES, CBR_UNPACK_SAMPLES, FRAGMENT_STORAGE, FULLSCREEN, RECT, SAMPLE_COVERAGE_RECORD};
 
 pub const CASE: Case = Case {
     name: "cbr.reconstruct.exact_sources",
     summary: "every reconstructed pixel's source and colour match the CPU model of the reconstruction",
     requires: wgpu::Features::empty(),
     params: &[
-        ParamSpec { name: "size", kind: ParamKind::SizesFrom(16), default: "64x48", help: "screen size" },
+        ParamSpec { name: "size", kind: ParamKind::SizeFrom(16), default: "64x48", help: "screen size" },
         ParamSpec {
             name: "frames",
             kind: ParamKind::CountIn(2, 6),
@@ -47,16 +48,17 @@ pub const CASE: Case = Case {
         Sweep { param: "tolerance_percent", range: SweepRange::Count(1, 50) },
     ],
     budget_s: 8,
+    shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE, CBR_SCENE, CBR_SHADE_SAMPLES, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, CBR_RECONSTRUCT],
     run,
 };
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
     let path = CheckerboardPath::for_adapter(ctx.gpu);
     ctx.metric("path", path.name());
-    let screen = ctx.params.sizes("size")?[0];
-    let frames = u32::try_from(ctx.params.count("frames")?)?;
+    let screen = ctx.params.size("size")?;
+    let frames = ctx.params.count_u32("frames")?;
     let tolerance = ctx.params.count("tolerance_percent")? as f32 / 100.0;
-    let mut problems = Vec::new();
+    let mut verdict = Verdict::new();
     let mut seen: BTreeMap<&str, BTreeSet<&str>> = BTreeMap::new();
     for scene in branch_scenes(screen, tolerance) {
         for detection in [Detection::Cso { tolerance }, Detection::Aso] {
@@ -82,7 +84,7 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
                     seen.entry(scene.name).or_default().extend(comparison.known_sources());
                     if !comparison.differences.is_empty() {
                         wrong_pixels += comparison.differences.len();
-                        problems.push(format!(
+                        verdict.fail(format!(
                             "{key}, frame {frame}: {} pixels differ from the model, e.g. {}",
                             comparison.differences.len(),
                             comparison.differences[..comparison.differences.len().min(3)].join("; ")
@@ -108,8 +110,8 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
             .filter(|s| !seen.get(scene.name).is_some_and(|seen| seen.contains(s)))
             .collect();
         if !missing.is_empty() {
-            problems.push(format!("{}: no pixel the model knows came from {}", scene.name, missing.join(", ")));
+            verdict.fail(format!("{}: no pixel the model knows came from {}", scene.name, missing.join(", ")));
         }
     }
-    Ok(if problems.is_empty() { Outcome::Pass } else { Outcome::Fail(problems.join("; ")) })
+    Ok(verdict.outcome())
 }
