@@ -40,7 +40,7 @@ fn main() -> ExitCode {
     // RUST_LOG prints them all as they come, for developers.
     if std::env::var_os("RUST_LOG").is_some() {
         env_logger::Builder::from_env(env_logger::Env::default()).init();
-    } else if let Err(e) = fragkit::harness::diagnostics::capture(cli.verbose) {
+    } else if let Err(e) = fragkit::diagnostics::capture(cli.verbose) {
         eprintln!("error: {e:#}");
         return ExitCode::from(2);
     }

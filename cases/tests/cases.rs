@@ -10,7 +10,7 @@ use fragkit_report::report::{CaseRecord, is_timing_metric};
 fn check(name: &str) {
     let (record, slug, built) = support::run(name);
     let case = fragkit_cases::all().iter().find(|c| c.name == name).expect("registered");
-    let unlisted: Vec<&str> = built.iter().filter(|f| !case.shaders.contains(f)).map(|f| f.path).collect();
+    let unlisted: Vec<&str> = built.into_iter().filter(|path| !case.shaders.iter().any(|f| f.path == *path)).collect();
     assert!(unlisted.is_empty(), "{name} built modules from shader files its `shaders` does not list: {unlisted:?}");
     assert!(
         !record.outcome.is_failure(false),

@@ -7,8 +7,7 @@ use std::sync::Mutex;
 use anyhow::{Context, Result, anyhow, bail};
 use fragkit_report::AdapterDescription;
 
-use crate::query::EncoderClock;
-use crate::shaders::ShaderFile;
+use crate::encoder_clock::EncoderClock;
 
 /// Which adapter to open. `None` fields fall back to `WGPU_BACKEND` / `WGPU_ADAPTER_NAME`,
 /// the variables wgpu's own utilities honour, then to wgpu's default choice.
@@ -49,8 +48,9 @@ pub struct Gpu {
     /// What each device-wide probe found on this device, by the probe's name, once it has run:
     /// many plans ask, and one render answers for the device ([`Gpu::probed_once`]).
     device_probes: Mutex<BTreeMap<&'static str, Option<String>>>,
-    /// The shader files modules were built from since [`Gpu::take_shader_files`] last asked.
-    shader_files: Mutex<Vec<ShaderFile>>,
+    /// The shader files (paths under `shaders/`) modules were built from since
+    /// [`Gpu::take_shader_paths`] last asked.
+    shader_paths: Mutex<Vec<&'static str>>,
 }
 
 /// A command encoder whose GPU time counts towards the running case.
@@ -202,22 +202,23 @@ impl Gpu {
             clock,
             lost,
             device_probes: Mutex::new(BTreeMap::new()),
-            shader_files: Mutex::new(Vec::new()),
+            shader_paths: Mutex::new(Vec::new()),
         })
     }
 
-    /// Notes that a module is being built from `file` (the shader table's modules call it).
-    pub(crate) fn built_from(&self, file: &ShaderFile) {
-        let mut files = self.shader_files.lock().unwrap_or_else(|e| e.into_inner());
-        if !files.contains(file) {
-            files.push(*file);
+    /// Notes that a module is being built from the shader file at `path` (the shader table's
+    /// modules call it).
+    pub(crate) fn built_from(&self, path: &'static str) {
+        let mut paths = self.shader_paths.lock().unwrap_or_else(|e| e.into_inner());
+        if !paths.contains(&path) {
+            paths.push(path);
         }
     }
 
     /// The shader files modules were built from since the last call, in the order first built:
     /// what a case's pipelines came from.
-    pub fn take_shader_files(&self) -> Vec<ShaderFile> {
-        std::mem::take(&mut *self.shader_files.lock().unwrap_or_else(|e| e.into_inner()))
+    pub fn take_shader_paths(&self) -> Vec<&'static str> {
+        std::mem::take(&mut *self.shader_paths.lock().unwrap_or_else(|e| e.into_inner()))
     }
 
     /// Why the device was lost, or None while it works. Polls first, so that a loss the driver
@@ -248,8 +249,8 @@ impl Gpu {
             return Ok(known.clone());
         }
         // Measured without the lock: a probe may ask another.
-        let (problem, raised) = crate::harness::diagnostics::probing(|| measure(self));
-        let problem = problem?.map(|problem| crate::harness::diagnostics::with_raised(problem, &raised));
+        let (problem, raised) = crate::diagnostics::probing(|| measure(self));
+        let problem = problem?.map(|problem| crate::diagnostics::with_raised(problem, &raised));
         Ok(probes().entry(name).or_insert(problem).clone())
     }
 
@@ -306,8 +307,10 @@ impl Gpu {
     /// [`Gpu::submit`]).
     pub fn encoder(&self, label: &str) -> Encoder {
         let mut inner = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
-        let clock_pair =
-            self.clock.as_ref().and_then(|clock| clock.lock().expect("clock lock").start(self, &mut inner));
+        let clock_pair = self
+            .clock
+            .as_ref()
+            .and_then(|clock| clock.lock().expect("clock lock").start(&self.device, &self.queue, &mut inner));
         Encoder { inner, clock_pair }
     }
 
@@ -322,7 +325,7 @@ impl Gpu {
     /// GPU time (ms) of the encoders submitted since the last call; None without timestamps.
     pub fn take_gpu_ms(&self) -> Result<Option<f64>> {
         match &self.clock {
-            Some(clock) => Ok(Some(clock.lock().expect("clock lock").take_ms(self)?)),
+            Some(clock) => Ok(Some(clock.lock().expect("clock lock").take_ms(&self.device, &self.queue)?)),
             None => Ok(None),
         }
     }

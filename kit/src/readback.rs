@@ -1,34 +1,17 @@
 //! Texture and buffer read-back without compute passes: copies of copyable formats and aspects
-//! (colour, `Depth32Float`, the stencil aspect of `Depth24PlusStencil8`) into a mappable buffer,
-//! and depth through a fragment pass where the adapter cannot copy it.
+//! (colour, `Depth32Float`, the stencil aspect of `Depth24PlusStencil8`) into a mappable buffer.
+//! Depth an adapter cannot copy is read through a fragment pass (`depth_readback`).
 
-use std::time::Duration;
-
-use anyhow::{Context, Result, anyhow, bail};
+use anyhow::{Context, Result, bail};
 
 use crate::gpu::Gpu;
-
-/// How long a read-back may wait for the GPU before it is reported as hung.
-pub const READBACK_TIMEOUT: Duration = Duration::from_secs(120);
+pub use crate::mapping::READBACK_TIMEOUT;
+use crate::mapping::map_read;
 
 /// Maps a `MAP_READ` buffer after the work that fills it has been submitted, waiting at most
 /// [`READBACK_TIMEOUT`].
 pub fn map_buffer(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>> {
-    let (sender, receiver) = std::sync::mpsc::channel();
-    buffer.map_async(wgpu::MapMode::Read, .., move |result| {
-        // The receiver only disappears when the wait below has already given up.
-        let _ = sender.send(result);
-    });
-    gpu.device
-        .poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(READBACK_TIMEOUT) })
-        .map_err(|e| anyhow!("GPU did not finish within {READBACK_TIMEOUT:?} while reading back {buffer:?}: {e}"))?;
-    receiver
-        .recv_timeout(READBACK_TIMEOUT)
-        .map_err(|_| anyhow!("buffer map callback never ran within {READBACK_TIMEOUT:?}"))?
-        .map_err(|e| anyhow!("mapping a read-back buffer failed: {e}"))?;
-    let bytes = buffer.get_mapped_range(..).map_err(|e| anyhow!("reading a mapped buffer: {e}"))?.to_vec();
-    buffer.unmap();
-    Ok(bytes)
+    map_read(&gpu.device, buffer)
 }
 
 /// Copies a `COPY_SRC` buffer into a fresh mappable one after the work submitted so far and
@@ -129,40 +112,6 @@ pub fn read_rgba8(gpu: &Gpu, texture: &wgpu::Texture) -> Result<image::RgbaImage
     }
     let texels = read_texture(gpu, texture, wgpu::TextureAspect::All, 0)?;
     image::RgbaImage::from_raw(texels.width, texels.height, texels.bytes).context("texel count does not match size")
-}
-
-/// Reads a single-sampled `Depth32Float` texture's values: by copy where the adapter can copy
-/// depth to a buffer, else through a fragment pass writing each value's bits
-/// (`shaders/kit/depth_bits.wgsl`). The texture needs `TEXTURE_BINDING` for the second.
-pub fn read_depth(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Vec<f32>> {
-    if texture.format() != wgpu::TextureFormat::Depth32Float {
-        bail!("read_depth needs Depth32Float, got {:?}", texture.format());
-    }
-    let copies = gpu.adapter.get_downlevel_capabilities().flags;
-    if copies.contains(wgpu::DownlevelFlags::DEPTH_TEXTURE_AND_BUFFER_COPIES) {
-        return Ok(read_texture(gpu, texture, wgpu::TextureAspect::All, 0)?.as_f32());
-    }
-    let format = wgpu::TextureFormat::R32Uint;
-    let pipeline = crate::fullscreen::FullscreenPipeline {
-        label: "depth bits",
-        fragment: crate::shaders::DEPTH_BITS,
-        entry_point: "fs_depth_bits",
-        targets: &[Some(format.into())],
-        depth_stencil: None,
-        samples: 1,
-    }
-    .create(gpu);
-    let depth_view = texture
-        .create_view(&wgpu::TextureViewDescriptor { aspect: wgpu::TextureAspect::DepthOnly, ..Default::default() });
-    let group = crate::fullscreen::bind_group(
-        gpu,
-        "depth bits",
-        &pipeline,
-        0,
-        &[wgpu::BindingResource::TextureView(&depth_view)],
-    );
-    let size = (texture.width(), texture.height());
-    Ok(crate::fullscreen::render_to_readback(gpu, "depth bits", &pipeline, &group, format, size)?.as_f32())
 }
 
 /// Reads the stencil aspect of a single-sampled depth-stencil texture.

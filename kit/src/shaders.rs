@@ -56,7 +56,7 @@ shader_files! {
     NOISE_TRIANGLES => "kit/noise_triangles.wgsl" in "fragkit-cases kit::determinism",
     MIP_FETCH => "kit/mip_fetch.wgsl" in "fragkit::probe::mip_fetch",
     HASH_VALUES => "kit/hash_values.wgsl" in "fragkit::probe::hash_values",
-    DEPTH_BITS => "kit/depth_bits.wgsl" in "fragkit::readback",
+    DEPTH_BITS => "kit/depth_bits.wgsl" in "fragkit::depth_readback",
     GBUFFER => "deferred/gbuffer.wgsl" in "fragkit::deferred::gbuffer",
     DEFERRED_LIGHTING => "deferred/lighting.wgsl" in "fragkit::deferred::lighting",
     CPS_EDGE_MASK => "cps/edge_mask.wgsl" in "fragkit::cps::renderer",
@@ -139,7 +139,7 @@ impl ShaderFile {
 
     /// This file's module compiled from `source`: its assembled text, changed for the device.
     pub fn module_from(&self, gpu: &Gpu, source: String) -> wgpu::ShaderModule {
-        gpu.built_from(self);
+        gpu.built_from(self.path);
         gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(self.path),
             source: wgpu::ShaderSource::Wgsl(source.into()),

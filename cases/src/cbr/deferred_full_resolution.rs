@@ -22,7 +22,8 @@ use fragkit::cbr::scene::{Motion, textured_corridor};
 use fragkit::cbr::{FullResolutionScene, Orientation, Shading};
 use fragkit::deferred::phong::{PhongComparison, ShadedSample, Surface, shade};
 use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Sweep, SweepRange, Verdict};
-use fragkit::readback::{read_depth, read_texture};
+use fragkit::depth_readback::read_depth;
+use fragkit::readback::read_texture;
 use fragkit::shaders::{CBR_SCENE, CBR_SHADE_SAMPLES, CBR_TURN_BACK, DEPTH_BITS, FULLSCREEN};
 use glam::{DMat4, DVec3, DVec4};
 

@@ -166,7 +166,7 @@ fn resolve_matrix(args: &MatrixArgs) -> Result<ExitCode> {
 fn list_adapters(verbose: bool) -> Result<()> {
     let adapters: Vec<AdapterDescription> =
         all_adapters().iter().map(|a| fragkit::gpu::describe(&a.get_info())).collect();
-    let logged = fragkit::harness::diagnostics::take();
+    let logged = fragkit::diagnostics::take();
     if adapters.is_empty() {
         anyhow::bail!(
             "no GPU adapter found. Install a Vulkan driver; on Debian `apt-get install mesa-vulkan-drivers` gives lavapipe"

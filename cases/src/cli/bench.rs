@@ -66,7 +66,7 @@ pub fn bench(selector: &AdapterSelector, args: BenchArgs) -> Result<()> {
         let report = Report {
             adapter: gpu.description.clone(),
             cases: results.iter().flat_map(BenchResult::records).collect(),
-            diagnostics: fragkit::harness::diagnostics::take(),
+            diagnostics: fragkit::diagnostics::take(),
             shard: None,
             run: None,
         };

@@ -11,7 +11,6 @@ use std::sync::{Mutex, OnceLock};
 
 use fragkit::harness::Case;
 use fragkit::harness::runner::run_case;
-use fragkit::shaders::ShaderFile;
 use fragkit::{AdapterSelector, Gpu};
 use fragkit_report::expectations::Expectations;
 use fragkit_report::report::CaseRecord;
@@ -30,12 +29,12 @@ pub fn expectations() -> Expectations {
 
 /// Runs one registered case on the shared GPU with its default parameters; also returns the
 /// shader files modules were built from while it ran.
-pub fn run(name: &str) -> (CaseRecord, String, Vec<ShaderFile>) {
+pub fn run(name: &str) -> (CaseRecord, String, Vec<&'static str>) {
     let case = fragkit_cases::all().iter().find(|c| c.name == name).unwrap_or_else(|| panic!("no case {name}"));
     let gpu = gpu().lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-    gpu.take_shader_files();
+    gpu.take_shader_paths();
     let record = run_case(&gpu, case, &BTreeMap::new(), &expectations(), None);
-    (record, gpu.description.slug(), gpu.take_shader_files())
+    (record, gpu.description.slug(), gpu.take_shader_paths())
 }
 
 /// Runs one case on the shared GPU with `overrides` applied to its parameters.

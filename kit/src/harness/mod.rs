@@ -7,7 +7,6 @@
 pub mod capability;
 pub mod case;
 pub mod child_process;
-pub mod diagnostics;
 pub mod params;
 pub mod registry;
 pub mod run;

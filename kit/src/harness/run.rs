@@ -9,9 +9,9 @@ use std::path::Path;
 use anyhow::Result;
 
 use super::case::Case;
-use super::diagnostics;
 use super::runner::run_case;
 use super::sweep;
+use crate::diagnostics;
 use crate::gpu::Gpu;
 use fragkit_report::expectations::Expectations;
 use fragkit_report::report::{CaseRecord, Report, ReportedOutcome};

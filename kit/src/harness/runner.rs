@@ -10,8 +10,8 @@ use anyhow::{Result, bail};
 use glob::Pattern;
 
 use super::case::{Case, Ctx, Outcome};
-use super::diagnostics;
 use super::params::Params;
+use crate::diagnostics;
 use crate::gpu::Gpu;
 use fragkit_report::expectations::{Expectations, KnownIssue};
 use fragkit_report::report::{CaseRecord, ReportedOutcome};

@@ -22,5 +22,5 @@ use crate::gpu::Gpu;
 /// target GL refuses shows in what the probe measures — are its own evidence
 /// (`diagnostics::probing`), not charged to the case that asked.
 pub(crate) fn scoped<T>(gpu: &Gpu, what: &str, body: impl FnOnce() -> Result<T>) -> Result<T> {
-    crate::harness::diagnostics::probing(|| gpu.scoped(what, body)).0
+    crate::diagnostics::probing(|| gpu.scoped(what, body)).0
 }

@@ -7,8 +7,8 @@
 use anyhow::Result;
 
 use crate::attachments::colour;
+use crate::diagnostics::{probing, with_raised};
 use crate::gpu::Gpu;
-use crate::harness::diagnostics::{probing, with_raised};
 use crate::readback::read_rgba8;
 use crate::rects::{Rect, RectBatch, RectFragment, RectPipeline};
 

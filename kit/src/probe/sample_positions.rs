@@ -442,7 +442,7 @@ impl PositionsMeasurement {
 /// shaders may write storage.
 pub fn measure(gpu: &Gpu, samples: u32) -> Result<PositionsMeasurement> {
     // The routes' results say what each found; the GL errors of a refused target are theirs.
-    crate::harness::diagnostics::probing(|| measure_routes(gpu, samples)).0
+    crate::diagnostics::probing(|| measure_routes(gpu, samples)).0
 }
 
 fn measure_routes(gpu: &Gpu, samples: u32) -> Result<PositionsMeasurement> {
