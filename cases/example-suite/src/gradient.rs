@@ -6,7 +6,7 @@
 use anyhow::Result;
 use fragkit::attachments;
 use fragkit::fullscreen::uniform_buffer;
-use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec};
+use fragkit::harness::{Case, Ctx, Outcome, ParamKind, ParamSpec, Verdict};
 use fragkit::readback::read_rgba8;
 
 pub const CASE: Case = Case {
@@ -115,14 +115,13 @@ fn run(ctx: &mut Ctx) -> Result<Outcome> {
     // Compare.
     ctx.metric("worst_step", worst);
     ctx.metric("pixels_off", wrong);
-    Ok(match first {
-        None => Outcome::Pass,
-        Some(first) => {
-            ctx.evidence_image("result", &image)?;
-            Outcome::Fail(format!(
-                "{wrong} of {} pixels more than {TOLERANCE} step from the definition; first: {first}",
-                width * height
-            ))
-        }
-    })
+    let mut verdict = Verdict::new();
+    if let Some(first) = first {
+        ctx.evidence_image("result", &image)?;
+        verdict.fail(format!(
+            "{wrong} of {} pixels more than {TOLERANCE} step from the definition; first: {first}",
+            width * height
+        ));
+    }
+    Ok(verdict.outcome())
 }

@@ -25,14 +25,16 @@ pub struct CaseRun<'c> {
 }
 
 /// The runs of `cases`: each once with `overrides`, or under `sweep` = (N, seed) N draws from its
-/// declared ranges (once for a case without ranges), `overrides` pinning what they name.
+/// declared ranges (once for a case without ranges), `overrides` pinning what they name. Each run
+/// keeps only the overrides of its case's own parameters, so that its reproduce line names what
+/// it ran with and nothing another case was given.
 pub fn plan_runs<'c>(
     cases: &[&'c Case],
     overrides: &BTreeMap<String, String>,
     sweep: Option<(u32, u64)>,
 ) -> Vec<CaseRun<'c>> {
     match sweep {
-        None => cases.iter().map(|&case| CaseRun { case, overrides: overrides.clone() }).collect(),
+        None => cases.iter().map(|&case| CaseRun { case, overrides: own(case, overrides.clone()) }).collect(),
         Some((count, seed)) => cases
             .iter()
             .flat_map(|&case| {
@@ -40,12 +42,17 @@ pub fn plan_runs<'c>(
                 (0..draws).map(move |index| {
                     let mut drawn = sweep::draw(case, seed, index);
                     drawn.extend(overrides.iter().map(|(k, v)| (k.clone(), v.clone())));
-                    drawn.retain(|key, _| case.params.iter().any(|p| p.name == key));
-                    CaseRun { case, overrides: drawn }
+                    CaseRun { case, overrides: own(case, drawn) }
                 })
             })
             .collect(),
     }
+}
+
+/// `overrides` less those naming no parameter of `case`.
+fn own(case: &Case, mut overrides: BTreeMap<String, String>) -> BTreeMap<String, String> {
+    overrides.retain(|key, _| case.params.iter().any(|p| p.name == key));
+    overrides
 }
 
 /// How a run treats its cases.
@@ -165,6 +172,8 @@ pub fn run(mut gpu: Gpu, runs: &[CaseRun], options: &RunOptions, sinks: &mut [&m
 mod tests {
     use fragkit_report::sink::Shard;
 
+    use crate::harness::{ParamKind, ParamSpec};
+
     use super::*;
 
     #[test]
@@ -177,5 +186,18 @@ mod tests {
             .collect();
         seen.sort_unstable();
         assert_eq!(seen, ["a", "b", "c", "d", "e"]);
+    }
+
+    #[test]
+    fn a_run_keeps_only_its_own_cases_overrides() {
+        let sized = Case {
+            params: &[ParamSpec { name: "size", kind: ParamKind::Size, default: "4x4", help: "" }],
+            ..Case::passing("sized")
+        };
+        let plain = Case::passing("plain");
+        let overrides = BTreeMap::from([("size".to_owned(), "8x8".to_owned())]);
+        let runs = plan_runs(&[&sized, &plain], &overrides, None);
+        assert_eq!(runs[0].overrides, overrides);
+        assert!(runs[1].overrides.is_empty(), "{:?}", runs[1].overrides);
     }
 }
