@@ -27,3 +27,18 @@ impl AdapterDescription {
         slug.trim_matches('_').to_owned()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_slug_is_backend_and_name_lowercased_with_one_underscore_for_each_run_of_other_characters() {
+        let adapter = AdapterDescription {
+            name: "llvmpipe (LLVM 15.0.6, 256 bits)".into(),
+            backend: "vulkan".into(),
+            ..Default::default()
+        };
+        assert_eq!(adapter.slug(), "vulkan_llvmpipe_llvm_15_0_6_256_bits");
+    }
+}

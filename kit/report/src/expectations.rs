@@ -93,7 +93,9 @@ pub struct Expectations {
 
 /// Patterns were checked by [`Expectations::parse`]; one that still fails to parse matches nothing.
 fn glob_matches(pattern: &str, text: &str) -> bool {
-    let options = MatchOptions { case_sensitive: false, ..Default::default() };
+    // Every option named: glob's defaults are not this file's contract.
+    let options =
+        MatchOptions { case_sensitive: false, require_literal_separator: false, require_literal_leading_dot: false };
     Pattern::new(pattern).is_ok_and(|p| p.matches_with(text, options))
 }
 
@@ -247,5 +249,37 @@ mod tests {
         assert!(format!("{typo:#}").contains("reasn"), "{typo:#}");
         let glob = Expectations::parse("[[known_issue]]\ncase = \"[x\"\nreason = \"y\"\n", "test").unwrap_err();
         assert!(format!("{glob:#}").contains("bad pattern"), "{glob:#}");
+    }
+
+    #[test]
+    fn an_entry_for_one_kind_of_failure_explains_that_kind_only() {
+        for kind in [FailureKind::Fail, FailureKind::Crash, FailureKind::Timeout] {
+            let text = format!("[[known_issue]]\ncase = \"kit.*\"\noutcome = \"{}\"\nreason = \"r\"\n", kind.name());
+            let expectations = Expectations::parse(&text, "test").unwrap();
+            assert_eq!(expectations.known_issues[0].outcome, Some(kind));
+            for (reason, of) in [
+                ("4x: 31 pixels differ", FailureKind::Fail),
+                ("crash: the process running the case was killed", FailureKind::Crash),
+                ("timeout: no record for 30 s", FailureKind::Timeout),
+            ] {
+                assert_eq!(FailureKind::of(reason), of);
+                let explained = expectations.explain("kit.a", &lavapipe(), reason).is_some();
+                assert_eq!(explained, of == kind, "an entry for {} and {reason:?}", kind.name());
+            }
+        }
+    }
+
+    #[test]
+    fn a_baseline_extends_the_known_issues_and_a_file_loads_as_its_text_parses() {
+        let mut expectations = Expectations::default();
+        expectations.extend(Expectations::parse(ENTRY, "test").unwrap());
+        assert_eq!(expectations.find("kit.scissor.msaa", &lavapipe()).len(), 1);
+        let path = std::env::temp_dir().join(format!("fragkit-expectations-{}.toml", std::process::id()));
+        std::fs::write(&path, ENTRY).unwrap();
+        let loaded = Expectations::load(&path).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert_eq!(loaded.find("kit.scissor.msaa", &lavapipe()).len(), 1);
+        let missing = Expectations::load(&path).unwrap_err();
+        assert!(format!("{missing:#}").contains(&path.display().to_string()), "{missing:#}");
     }
 }

@@ -22,3 +22,15 @@ impl ParamValue {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_value_reads_as_set_takes_it() {
+        assert_eq!(ParamValue::Count(8).to_text(), "8");
+        assert_eq!(ParamValue::Counts(vec![1, 4]).to_text(), "1,4");
+        assert_eq!(ParamValue::Sizes(vec![(64, 48), (7, 5)]).to_text(), "64x48,7x5");
+    }
+}

@@ -53,6 +53,9 @@ mod tests {
         assert_eq!(number(123456.789), "123457");
         assert_eq!(number(2.5e-9), "2.50000×10^-9");
         assert_eq!(number(f64::INFINITY), "inf");
+        // Whole numbers print whole below 1e15, in the scientific form from there.
+        assert_eq!(number(999_999_999_999_999.0), "999999999999999");
+        assert_eq!(number(1e15), "1.00000×10^15");
     }
 
     #[test]
@@ -67,5 +70,11 @@ mod tests {
         assert_eq!(utc_time(0), "1970-01-01 00:00 UTC");
         assert_eq!(utc_time(951_782_400), "2000-02-29 00:00 UTC");
         assert_eq!(utc_time(1_796_330_520), "2026-12-03 20:42 UTC");
+        // Century years are leap years only every fourth century; before 1970 too.
+        assert_eq!(utc_time(4_107_456_000), "2100-02-28 00:00 UTC");
+        assert_eq!(utc_time(4_107_542_400), "2100-03-01 00:00 UTC");
+        assert_eq!(utc_time(13_574_563_200), "2400-02-29 00:00 UTC");
+        assert_eq!(utc_time(-2_203_891_200), "1900-03-01 00:00 UTC");
+        assert_eq!(utc_time(-60), "1969-12-31 23:59 UTC");
     }
 }

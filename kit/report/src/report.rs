@@ -87,7 +87,6 @@ fn one() -> u32 {
     1
 }
 
-/// Every number (booleans as 0/1) in a metric value, by dotted path (`a.b.0`).
 /// Metrics that are timings, by their top-level name: they vary run to run, so snapshots leave
 /// them out and `compare` judges GPU times by the noise instead of listing them as changes.
 const TIMING_METRICS: &[&str] =
@@ -98,6 +97,7 @@ pub fn is_timing_metric(name: &str) -> bool {
     TIMING_METRICS.contains(&name) || name.ends_with("_ms")
 }
 
+/// Every number (booleans as 0/1) in a metric value, by dotted path (`a.b.0`).
 fn flatten_metric(path: &str, value: &serde_json::Value, out: &mut BTreeMap<String, f64>) {
     match value {
         serde_json::Value::Number(n) => out.extend(n.as_f64().map(|f| (path.to_owned(), f))),
@@ -352,5 +352,88 @@ mod tests {
         assert_eq!(two.cases[0].gpu_ms, Some(3.0));
         let other = report(&[("a", Some(1.0), Pass)]);
         assert!(Report::pool_processes(vec![named(0), (PathBuf::from("x.json"), other)]).is_err());
+    }
+
+    fn shard_of(index: u32, count: u32) -> (PathBuf, Report) {
+        let name = format!("kit.{index}");
+        let case = CaseRecord::unmeasured(&name, ReportedOutcome::Pass, "");
+        let report = Report { shard: Some(Shard { index, count }), cases: vec![case], ..report(&[]) };
+        (PathBuf::from(format!("shard{index}of{count}.json")), report)
+    }
+
+    #[test]
+    fn only_a_whole_set_of_shards_merges() {
+        let merged = Report::merge(vec![shard_of(2, 3), shard_of(1, 3), shard_of(3, 3)]).unwrap();
+        assert_eq!(merged.cases.len(), 3);
+        assert_eq!(merged.shard, None);
+        let error = |reports: Vec<(PathBuf, Report)>| format!("{:#}", Report::merge(reports).unwrap_err());
+        assert!(error(vec![shard_of(1, 3), shard_of(3, 3)]).contains("shard 2/3 missing: 2 of 3"));
+        assert!(error(vec![shard_of(1, 2), shard_of(1, 2)]).contains("are both shard 1/2"));
+        assert!(error(vec![shard_of(1, 2), shard_of(2, 3)]).contains("is shard 2/3, the others are shards of 2"));
+        let (path, mut unsharded) = shard_of(2, 2);
+        unsharded.shard = None;
+        assert!(error(vec![shard_of(1, 2), (path, unsharded)]).contains("is no shard's report"));
+    }
+
+    #[test]
+    fn metrics_flatten_to_numbers_by_dotted_path() {
+        let mut record = CaseRecord::unmeasured("kit.a", ReportedOutcome::Pass, "");
+        record.metrics = BTreeMap::from([
+            ("a".to_owned(), serde_json::json!(1.5)),
+            ("b".to_owned(), serde_json::json!(true)),
+            ("c".to_owned(), serde_json::json!([1, {"d": 2}])),
+            ("e".to_owned(), serde_json::json!("text")),
+        ]);
+        let expected: BTreeMap<String, f64> =
+            [("a", 1.5), ("b", 1.0), ("c.0", 1.0), ("c.1.d", 2.0)].map(|(k, v)| (k.to_owned(), v)).into();
+        assert_eq!(record.numeric_metrics(), expected);
+    }
+
+    #[test]
+    fn timing_metrics_are_the_listed_names_and_any_named_ms() {
+        for timing in ["gpu_ms", "equal_ms", "time_ratio", "foveated_lighting"] {
+            assert!(is_timing_metric(timing), "{timing}");
+        }
+        for other in ["pixels_differing", "ms_count", "ratio"] {
+            assert!(!is_timing_metric(other), "{other}");
+        }
+    }
+
+    #[test]
+    fn a_record_without_attempts_ran_once() {
+        let text = r#"{"name": "kit.a", "outcome": "pass", "reason": "", "params": {}, "metrics": {},
+            "gpu_ms": null, "wall_ms": 1.0, "evidence": []}"#;
+        let record: CaseRecord = serde_json::from_str(text).unwrap();
+        assert_eq!(record.attempts, 1);
+    }
+
+    #[test]
+    fn failures_count_the_failing_outcomes_and_flaky_ones_when_asked() {
+        use ReportedOutcome::{Crash, Fail, Flaky, KnownIssue, NotSupported, Pass, Timeout, UnexpectedPass};
+        let all = [Pass, Fail, NotSupported, KnownIssue, UnexpectedPass, Flaky, Crash, Timeout];
+        let run = report(&all.map(|outcome| ("kit.a", None, outcome)));
+        assert_eq!(run.failures(false), 4);
+        assert_eq!(run.failures(true), 5);
+        let labels = all.map(ReportedOutcome::label);
+        assert_eq!(
+            labels,
+            ["pass", "FAIL", "not_supported", "known_issue", "UNEXPECTED_PASS", "FLAKY", "CRASH", "TIMEOUT"]
+        );
+    }
+
+    #[test]
+    fn merge_refuses_another_adapter_and_a_case_run_twice() {
+        let error = |reports: Vec<(PathBuf, Report)>| format!("{:#}", Report::merge(reports).unwrap_err());
+        let (path, mut other) = shard_of(2, 2);
+        other.adapter.name = "SwiftShader".into();
+        assert!(error(vec![shard_of(1, 2), (path, other)]).contains("merge joins the shards of one adapter's run"));
+        let a = (PathBuf::from("a.json"), report(&[("kit.a", None, ReportedOutcome::Pass)]));
+        let b = (PathBuf::from("b.json"), report(&[("kit.a", None, ReportedOutcome::Fail)]));
+        assert!(error(vec![a.clone(), b]).contains("overlapping shards"));
+        // The same case with other parameters is another run.
+        let mut sized = CaseRecord::unmeasured("kit.a", ReportedOutcome::Pass, "");
+        sized.params.insert("size".into(), ParamValue::Sizes(vec![(4, 4)]));
+        let c = (PathBuf::from("c.json"), Report { cases: vec![sized], ..report(&[]) });
+        assert_eq!(Report::merge(vec![a, c]).unwrap().cases.len(), 2);
     }
 }

@@ -87,10 +87,21 @@ impl RunInfo {
     /// A report's run, recorded now by `import`: when, where and from what it ran are the
     /// report's (where it says; a report written before it did is recorded as imported now).
     pub fn imported(recorded: Option<&RunInfo>, tag: Option<String>) -> Self {
-        let now = Self::now(RunKind::Import, None);
         match recorded {
             Some(run) => Self { kind: RunKind::Import, tag: tag.or_else(|| run.tag.clone()), ..run.clone() },
-            None => Self { git_commit: None, shader_override: None, tag, ..now },
+            None => {
+                // What built the report is not known: only when and where it was recorded.
+                let now = Self::now(RunKind::Import, None);
+                Self {
+                    kind: RunKind::Import,
+                    started_unix: now.started_unix,
+                    kit_version: now.kit_version,
+                    git_commit: None,
+                    host: now.host,
+                    tag,
+                    shader_override: None,
+                }
+            }
         }
     }
 }
@@ -121,7 +132,16 @@ mod tests {
             (RunKind::Import, 7, Some("abc"))
         );
         assert_eq!(imported.tag.as_deref(), Some("nightly"));
+        assert_eq!(RunInfo::imported(Some(&ran), Some("again".into())).tag.as_deref(), Some("again"));
         let unknown = RunInfo::imported(None, Some("t".into()));
         assert_eq!((unknown.kind, unknown.git_commit, unknown.tag.as_deref()), (RunKind::Import, None, Some("t")));
+    }
+
+    #[test]
+    fn a_run_now_is_of_its_kind_this_kits_version_and_this_time() {
+        let before = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap().as_secs() as i64;
+        let run = RunInfo::now(RunKind::Bench, Some("t".into()));
+        assert_eq!((run.kind, run.tag.as_deref(), run.kit_version.as_str()), (RunKind::Bench, Some("t"), "0.1.0"));
+        assert!((before..=before + 60).contains(&run.started_unix), "{}", run.started_unix);
     }
 }

@@ -71,6 +71,31 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_shard_takes_every_nth_run_from_its_own() {
+        assert_eq!(Shard { index: 2, count: 3 }.select((0..8).collect()), [1, 4, 7]);
+        assert_eq!(Shard { index: 1, count: 1 }.select((0..3).collect()), [0, 1, 2]);
+    }
+
+    #[test]
+    fn the_json_sink_writes_the_report_with_its_shard_and_run() {
+        let path = std::env::temp_dir().join(format!("fragkit-json-sink-{}.json", std::process::id()));
+        let shard = Shard { index: 2, count: 4 };
+        let run = RunInfo { tag: Some("nightly".into()), ..RunInfo::default() };
+        let report = Report {
+            adapter: AdapterDescription::default(),
+            cases: Vec::new(),
+            diagnostics: Vec::new(),
+            shard: None,
+            run: None,
+        };
+        JsonSink { path: &path, shard: Some(shard), run: run.clone() }.finish(&report).unwrap();
+        let written = Report::read(&path).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert_eq!(written.shard, Some(shard));
+        assert_eq!(written.run, Some(run));
+    }
+
+    #[test]
     fn shards_together_take_every_run_once() {
         let mut seen: Vec<u32> = (1..=3).flat_map(|k| Shard { index: k, count: 3 }.select((0..5).collect())).collect();
         seen.sort_unstable();

@@ -342,6 +342,16 @@ fn death_record(
 mod tests {
     use super::*;
 
+    /// A case's timeout is ten times its budget with 30 s as the floor, or the one given.
+    #[test]
+    fn a_cases_timeout_is_ten_budgets_and_never_under_the_floor() {
+        let budget = |budget_s| Case { budget_s, ..Case::passing("kit.a") };
+        let of = |timeout: CaseTimeout, budget_s| timeout.of(&budget(budget_s)).as_secs();
+        assert_eq!([1, 3, 4, 60].map(|b| of(CaseTimeout::FromBudget, b)), [30, 30, 40, 600]);
+        assert_eq!(of(CaseTimeout::Fixed(Duration::from_secs(7)), 60), 7);
+        assert_eq!(CaseTimeout::FromBudget.origin(&budget(4)), "10× the case's budget of 4 s, at least 30 s");
+    }
+
     /// A killed parent leaves its stream behind; a new parent with its process id starts empty.
     #[test]
     fn a_stream_left_by_a_dead_process_with_the_same_id_is_not_read() {
