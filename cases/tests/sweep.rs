@@ -41,7 +41,7 @@ fn drawn_parameter_sets_hold() {
     // The runs `fragkit check --sweep DRAWS --seed SEED` plans for the cases with ranges.
     let swept: Vec<&Case> = fragkit_cases::all().iter().filter(|c| !c.sweep.is_empty()).collect();
     for run in plan_runs(&swept, &BTreeMap::new(), Some((DRAWS, SEED))) {
-        let (record, _) = support::run_with(run.case, &run.overrides);
+        let (record, ..) = support::run_with(run.case, &run.overrides);
         let reproduce = reproduce_line("fragkit check", run.case, &run.overrides);
         eprintln!("{:<14} {reproduce}", record.outcome.label());
         if record.outcome.is_failure(false) {

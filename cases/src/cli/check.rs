@@ -9,7 +9,7 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use fragkit::gpu::AdapterSelector;
 use fragkit::harness::Case;
-use fragkit::harness::child_process::log_tail;
+use fragkit::harness::child_process::{arguments_without, log_tail};
 use fragkit::harness::params::parse_overrides;
 use fragkit::harness::run::{CaseRun, RunOptions, plan_runs};
 use fragkit::harness::runner::{check_overrides, select};
@@ -26,9 +26,7 @@ use fragkit_results::html::{Column, HtmlSink, write_site};
 use fragkit_results::junit::JunitSink;
 use fragkit_results::snapshot::Snapshot;
 
-use super::matrix::{
-    ChildEnd, MatrixArgs, Show, arguments_without, check_selection_is_free, print_table, run_children,
-};
+use super::matrix::{ChildEnd, MatrixArgs, Show, check_selection_is_free, print_table, run_children};
 use super::table::TableSink;
 
 /// How to run one case of this kit on its own, for reproduce lines.
@@ -187,8 +185,11 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     sinks.extend(github.as_mut().map(|sink| sink as &mut dyn Sink));
     sinks.extend(html.as_mut().map(|sink| sink as &mut dyn Sink));
     // The child gets this command line without what only the parent writes.
-    let child_arguments =
-        arguments_without(&["--json", "--junit", "--html", "--db", "--tag", "--write-baseline"], &["--github"]);
+    let child_arguments = arguments_without(
+        std::env::args_os().skip(1),
+        &["--json", "--junit", "--html", "--db", "--tag", "--write-baseline"],
+        &["--github"],
+    );
     let timeout = match args.timeout {
         Some(seconds) => CaseTimeout::Fixed(std::time::Duration::from_secs(seconds)),
         None => CaseTimeout::FromBudget,
@@ -326,6 +327,7 @@ fn check_matrix(
         }
     }
     let inherited = arguments_without(
+        std::env::args_os().skip(1),
         &[
             "--matrix",
             "--adapters-file",

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitStatus, Stdio};
 
 use anyhow::{Context, Result, bail};
-use fragkit::harness::child_process::{ending, log_tail};
+use fragkit::harness::child_process::{arguments_without, ending, log_tail};
 
 use super::configurations::{Configuration, Matrix};
 
@@ -61,26 +61,6 @@ impl ChildRun<'_> {
     pub fn failed(&self) -> bool {
         matches!(&self.end, ChildEnd::Exited(status) if !status.success())
     }
-}
-
-/// The command line this process was started with, after the program name, without the flags in
-/// `strip` (each with its value, as `--flag value` or `--flag=value`) and the `switches` (flags
-/// without a value).
-pub fn arguments_without(strip: &[&str], switches: &[&str]) -> Vec<OsString> {
-    let mut kept = Vec::new();
-    let mut arguments = std::env::args_os().skip(1);
-    while let Some(argument) = arguments.next() {
-        let text = argument.to_string_lossy();
-        if switches.iter().any(|flag| text == *flag) {
-            continue;
-        }
-        if strip.iter().any(|flag| text == *flag) {
-            arguments.next();
-        } else if !strip.iter().any(|flag| text.starts_with(&format!("{flag}="))) {
-            kept.push(argument);
-        }
-    }
-    kept
 }
 
 /// Refuses what --matrix cannot combine with: a backend, adapter or driver chosen for all
@@ -172,6 +152,7 @@ pub fn run_each_showing_output(
     let matrix = args.load()?;
     let reports = &args.reports;
     let inherited = arguments_without(
+        std::env::args_os().skip(1),
         &["--matrix", "--adapters-file", "--reports", "--json", "--backend", "--adapter", "--driver-info"],
         &[],
     );

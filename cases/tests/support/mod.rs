@@ -31,17 +31,16 @@ pub fn expectations() -> Expectations {
 /// shader files modules were built from while it ran.
 pub fn run(name: &str) -> (CaseRecord, String, Vec<&'static str>) {
     let case = fragkit_cases::all().iter().find(|c| c.name == name).unwrap_or_else(|| panic!("no case {name}"));
-    let gpu = gpu().lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-    gpu.take_shader_paths();
-    let record = run_case(&gpu, case, &BTreeMap::new(), &expectations(), None);
-    (record, gpu.description.slug(), gpu.take_shader_paths())
+    run_with(case, &BTreeMap::new())
 }
 
-/// Runs one case on the shared GPU with `overrides` applied to its parameters.
-pub fn run_with(case: &Case, overrides: &BTreeMap<String, String>) -> (CaseRecord, String) {
+/// Runs one case on the shared GPU with `overrides` applied to its parameters; also returns the
+/// shader files modules were built from while it ran.
+pub fn run_with(case: &Case, overrides: &BTreeMap<String, String>) -> (CaseRecord, String, Vec<&'static str>) {
     let gpu = gpu().lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    gpu.take_shader_paths();
     let record = run_case(&gpu, case, overrides, &expectations(), None);
-    (record, gpu.description.slug())
+    (record, gpu.description.slug(), gpu.take_shader_paths())
 }
 
 /// Whether this adapter has snapshots of its own (or new ones are being recorded). An adapter

@@ -245,6 +245,14 @@ mod tests {
             .collect()
     }
 
+    /// The drawn values as one pooled sample, and the size of a first sample of `first` of them
+    /// that leaves the second at least one.
+    fn pooled_with_first<V: Into<f64>>(values: impl IntoIterator<Item = V>, first: usize) -> (Vec<f64>, usize) {
+        let pooled: Vec<f64> = values.into_iter().map(Into::into).collect();
+        let n1 = first.min(pooled.len() - 1);
+        (pooled, n1)
+    }
+
     /// U by its definition: the pairs where `a`'s value is larger, ties counting one half.
     fn u_by_pairs(a: &[f64], b: &[f64]) -> f64 {
         a.iter()
@@ -284,8 +292,7 @@ mod tests {
             values in proptest::collection::btree_set(0u16..1000, 2..=11),
             first in 1usize..=6,
         ) {
-            let pooled: Vec<f64> = values.iter().map(|&v| f64::from(v)).collect();
-            let n1 = first.min(pooled.len() - 1);
+            let (pooled, n1) = pooled_with_first(values, first);
             let (a, b) = (&pooled[..n1], &pooled[n1..]);
             let u = u_by_pairs(a, b);
             let mean = (n1 * (pooled.len() - n1)) as f64 / 2.0;
@@ -301,8 +308,7 @@ mod tests {
             values in proptest::collection::vec(0u8..4, 2..=12),
             first in 1usize..=6,
         ) {
-            let pooled: Vec<f64> = values.iter().map(|&v| f64::from(v)).collect();
-            let n1 = first.min(pooled.len() - 1);
+            let (pooled, n1) = pooled_with_first(values, first);
             let (a, b) = (&pooled[..n1], &pooled[n1..]);
             let (u, tie_term) = rank_statistic(a, b);
             prop_assert_eq!(u, u_by_pairs(a, b));

@@ -1,6 +1,7 @@
 //! How a child process ended, in words, and the last lines it logged: what a supervisor says
 //! about a case list's child, or a matrix about a configuration's.
 
+use std::ffi::OsString;
 use std::path::Path;
 use std::process::ExitStatus;
 
@@ -32,9 +33,48 @@ pub fn ending(status: &ExitStatus) -> String {
     }
 }
 
+/// A command line (`words`, after the program name) without the flags in `strip` (each with its
+/// value, as `--flag value` or `--flag=value`) and the `switches` (flags without a value): the
+/// parent's own command line, less what only the parent writes, for its children.
+pub fn arguments_without(
+    words: impl IntoIterator<Item = OsString>,
+    strip: &[&str],
+    switches: &[&str],
+) -> Vec<OsString> {
+    let mut kept = Vec::new();
+    let mut words = words.into_iter();
+    while let Some(word) = words.next() {
+        let text = word.to_string_lossy();
+        if switches.iter().any(|flag| text == *flag) {
+            continue;
+        }
+        if strip.iter().any(|flag| text == *flag) {
+            words.next();
+        } else if !strip.iter().any(|flag| text.starts_with(&format!("{flag}="))) {
+            kept.push(word);
+        }
+    }
+    kept
+}
+
 /// The last `lines` lines of the log at `path` (empty when it cannot be read).
 pub fn log_tail(path: &Path, lines: usize) -> String {
     let text = std::fs::read_to_string(path).unwrap_or_default();
     let all: Vec<&str> = text.lines().collect();
     all[all.len().saturating_sub(lines)..].join("\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn words(text: &str) -> Vec<OsString> {
+        text.split_whitespace().map(OsString::from).collect()
+    }
+
+    #[test]
+    fn children_get_the_command_line_without_what_only_the_parent_writes() {
+        let line = words("kit.* --json r.json --set k=1 --db=runs.db --github -v");
+        assert_eq!(arguments_without(line, &["--json", "--db"], &["--github"]), words("kit.* --set k=1 -v"));
+    }
 }

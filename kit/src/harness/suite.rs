@@ -24,6 +24,7 @@ use fragkit_report::run_info::{RunInfo, RunKind};
 use fragkit_report::sink::{JsonSink, Sink};
 
 use super::case::Case;
+use super::child_process::arguments_without;
 use super::params::parse_overrides;
 use super::run::{RunOptions, plan_runs};
 use super::runner::{check_overrides, select};
@@ -165,7 +166,8 @@ impl Suite<'_> {
         let mut sinks: Vec<&mut dyn Sink> = vec![&mut lines];
         sinks.extend(json.as_mut().map(|sink| sink as &mut dyn Sink));
         let supervision = Supervision {
-            arguments: without_json(&words),
+            // The children get this command line, less the report only the parent writes.
+            arguments: arguments_without(words, &["--json"], &[]),
             command: self.name,
             expectations: &expectations,
             timeout: arguments.timeout.map_or(CaseTimeout::FromBudget, CaseTimeout::Fixed),
@@ -180,20 +182,6 @@ impl Suite<'_> {
         );
         Ok(if failures == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) })
     }
-}
-
-/// The parent's command line for its children: the same, less the report only the parent writes.
-fn without_json(words: &[OsString]) -> Vec<OsString> {
-    let mut kept = Vec::new();
-    let mut words = words.iter();
-    while let Some(word) = words.next() {
-        if word == "--json" {
-            words.next();
-        } else {
-            kept.push(word.clone());
-        }
-    }
-    kept
 }
 
 #[cfg(test)]
@@ -215,10 +203,5 @@ mod tests {
         for bad in ["--json", "--frobnicate", "--timeout 0", "--timeout x", "--skip -1"] {
             assert!(Arguments::parse(words(bad)).is_err(), "{bad} accepted");
         }
-    }
-
-    #[test]
-    fn children_get_the_command_line_without_the_report() {
-        assert_eq!(without_json(&words("a --json r.json --set k=1")), words("a --set k=1"));
     }
 }

@@ -324,17 +324,9 @@ fn death_record(
     let params =
         Params::resolve(run.case.name, run.case.params, &run.overrides).map(|p| p.to_map()).unwrap_or_default();
     CaseRecord {
-        name: run.case.name.to_owned(),
-        outcome,
-        reason,
         params,
-        metrics: Default::default(),
-        gpu_ms: None,
-        gpu_ms_repeats: Vec::new(),
-        wall_ms: 0.0,
-        evidence: Vec::new(),
-        attempts: 1,
         diagnostics: stderr_tail.lines().map(str::to_owned).collect(),
+        ..CaseRecord::unmeasured(run.case.name, outcome, &reason)
     }
 }
 
