@@ -75,3 +75,77 @@ pub fn error_mask(reference: &RgbaImage, wrong: &[bool]) -> RgbaImage {
     }
     mask
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 5×3 image whose every channel differs from pixel to pixel.
+    fn picture() -> RgbaImage {
+        RgbaImage::from_fn(5, 3, |x, y| Rgba([(40 * x + 7) as u8, (50 * y + 3) as u8, (x * y + 90) as u8, 200]))
+    }
+
+    #[test]
+    fn one_channel_of_one_pixel_past_the_tolerance_is_one_differing_pixel() {
+        let reference = picture();
+        for channel in 0..4 {
+            for (step, tolerance, differing) in [(3u8, 3u8, 0u64), (4, 3, 1), (1, 0, 1), (0, 0, 0)] {
+                let mut result = reference.clone();
+                result.get_pixel_mut(4, 2)[channel] += step;
+                let (difference, mask) = compare(&result, &reference, tolerance).unwrap();
+                assert_eq!(
+                    (difference.differing_pixels, difference.max_channel_difference),
+                    (differing, step),
+                    "channel {channel}, step {step}, tolerance {tolerance}"
+                );
+                let red = Rgba([255, 0, 0, 255]);
+                assert_eq!(*mask.get_pixel(4, 2) == red, differing == 1);
+                // Elsewhere the mask is the reference dimmed.
+                let p = reference.get_pixel(1, 2);
+                assert_eq!(*mask.get_pixel(1, 2), Rgba([p[0] / 4, p[1] / 4, p[2] / 4, 255]));
+            }
+        }
+    }
+
+    #[test]
+    fn psnr_is_over_the_colour_channels_of_every_pixel() {
+        let reference = picture();
+        assert_eq!(compare(&reference, &reference, 0).unwrap().0.psnr_db, f64::INFINITY);
+        // One channel off by 15 in one pixel of 15: MSE = 225 / 45 = 5.
+        let mut result = reference.clone();
+        result.get_pixel_mut(0, 0)[1] -= 3;
+        result.get_pixel_mut(0, 0)[1] += 18;
+        let psnr = compare(&result, &reference, 255).unwrap().0.psnr_db;
+        assert!((psnr - 10.0 * (255.0f64 * 255.0 / 5.0).log10()).abs() < 1e-12, "{psnr}");
+        // Alpha takes no part in PSNR.
+        let mut alpha = reference.clone();
+        alpha.get_pixel_mut(2, 1)[3] = 0;
+        assert_eq!(compare(&alpha, &reference, 0).unwrap().0.psnr_db, f64::INFINITY);
+        assert!(compare(&RgbaImage::new(5, 2), &reference, 0).is_err());
+    }
+
+    #[test]
+    fn an_error_mask_and_the_strip_keep_each_picture_in_its_place() {
+        let reference = picture();
+        let mut wrong = vec![false; 15];
+        wrong[7] = true;
+        let mask = error_mask(&reference, &wrong);
+        assert_eq!(*mask.get_pixel(2, 1), Rgba([255, 0, 0, 255]));
+        let p = reference.get_pixel(3, 1);
+        assert_eq!(*mask.get_pixel(3, 1), Rgba([p[0] / 4, p[1] / 4, p[2] / 4, 255]));
+        let result = RgbaImage::from_pixel(5, 3, Rgba([1, 2, 3, 4]));
+        let strip = side_by_side(&result, &reference, &mask);
+        assert_eq!(strip.dimensions(), (15, 3));
+        assert_eq!((strip.get_pixel(4, 2), strip.get_pixel(9, 2), strip.get_pixel(12, 1)), (&Rgba([1, 2, 3, 4]), reference.get_pixel(4, 2), mask.get_pixel(2, 1)));
+    }
+
+    #[test]
+    fn flip_sees_one_wrong_pixel_and_not_an_identical_image() {
+        let reference = picture();
+        assert_eq!(flip_mean(&reference, &reference).unwrap(), 0.0);
+        let mut result = reference.clone();
+        result.get_pixel_mut(2, 1)[0] = 255;
+        assert!(flip_mean(&result, &reference).unwrap() > 0.0);
+        assert!(flip_mean(&RgbaImage::new(4, 3), &reference).is_err());
+    }
+}

@@ -115,8 +115,10 @@ pub fn smallest_repeats_p(m: usize, n: usize) -> f64 {
     (2.0 / orders).min(1.0)
 }
 
-/// Repeats each run needs for the Mann–Whitney test to reach below `alpha`.
+/// Repeats each run needs for the Mann–Whitney test to reach below `alpha` (> 0: no number of
+/// repeats reaches below 0).
 pub fn repeats_needed(alpha: f64) -> usize {
+    assert!(alpha > 0.0, "no number of repeats reaches a p-value below alpha = {alpha}");
     (1..).find(|&n| smallest_repeats_p(n, n) < alpha).expect("some number of repeats reaches any alpha > 0")
 }
 
@@ -125,8 +127,9 @@ pub fn smallest_history_p(n: usize) -> f64 {
     (2.0 / (n as f64 + 1.0)).min(1.0)
 }
 
-/// Earlier runs a history needs for its rank test to reach below `alpha`.
+/// Earlier runs a history needs for its rank test to reach below `alpha` (> 0).
 pub fn history_needed(alpha: f64) -> usize {
+    assert!(alpha > 0.0, "no history reaches a p-value below alpha = {alpha}");
     (1..).find(|&n| smallest_history_p(n) < alpha).expect("some history reaches any alpha > 0")
 }
 
@@ -526,6 +529,9 @@ mod tests {
         assert_eq!((history_needed(0.05), history_needed(0.01)), (40, 200));
         assert_eq!(repeats_needed(0.01), 5);
         assert_eq!(repeats_needed(0.05), 4);
+        for needed in [repeats_needed, history_needed] {
+            assert!(std::panic::catch_unwind(|| needed(0.0)).is_err(), "alpha 0 is refused, not looped on");
+        }
         // Four times slower on every one of 3 repeats: p = 0.1 at best, no verdict at 0.01.
         let base = [10.0, 10.2, 9.9];
         let slower: Vec<f64> = base.iter().map(|t| t * 4.0).collect();
@@ -562,6 +568,242 @@ mod tests {
             "{time:?}"
         );
         assert!(c.markdown("b", "n").contains("the case is FAIL in the new run"));
+    }
+
+    #[test]
+    fn the_history_rank_p_counts_earlier_times_at_least_as_far_out_on_the_nearer_side() {
+        let earlier = [1.0, 2.0, 3.0, 4.0, 5.0];
+        // Beyond every earlier time on either side: 2 · (1 + 0) / 6.
+        assert_eq!(rank_p(&earlier, 0.5), 1.0 / 3.0);
+        assert_eq!(rank_p(&earlier, 6.0), 1.0 / 3.0);
+        // One earlier time at or below: 2 · (1 + 1) / 6; ties count on both sides.
+        assert_eq!(rank_p(&earlier, 1.5), 2.0 / 3.0);
+        assert_eq!(rank_p(&earlier, 1.0), 2.0 / 3.0);
+        assert_eq!(rank_p(&earlier, 5.0), 2.0 / 3.0);
+        // In the middle the p is capped at 1.
+        assert_eq!(rank_p(&earlier, 3.0), 1.0);
+        // A repeat count whose smallest p equals alpha cannot reach below it.
+        assert_eq!((smallest_repeats_p(3, 3), repeats_needed(0.1)), (0.1, 4));
+        assert_eq!((smallest_history_p(19), history_needed(0.1)), (0.1, 20));
+    }
+
+    /// `base` → `new` judged at `judgement` against `history` (single and repeated alike).
+    fn judged_at(judgement: TimeJudgement, base: CaseRecord, new: CaseRecord, history: &[f64]) -> Option<TimeChange> {
+        let earlier = BTreeMap::from([("t".to_owned(), history.to_vec())]);
+        let history = GpuHistory { single: earlier.clone(), repeated: earlier };
+        compare(&report(vec![base]), &report(vec![new]), &judgement, &history).time_changes.first().cloned()
+    }
+
+    #[test]
+    fn the_threshold_is_a_strict_bound_on_either_side_and_a_time_needs_both_runs_timed() {
+        let judgement = TimeJudgement { threshold: 0.25, alpha: 0.01 };
+        let steady: Vec<f64> = (0..250).map(|i| 9.9 + 0.2 * f64::from(i % 50) / 49.0).collect();
+        let single = |ms: f64| CaseRecord { gpu_ms: Some(ms), ..record("t", ReportedOutcome::Pass, 1.0) };
+        let at = |new: f64| judged_at(judgement, single(10.0), single(new), &steady).unwrap();
+        // Exactly 1.25 and 1 / 1.25 of the base are within the threshold; just past them is not.
+        assert!(at(12.5).judged && !at(12.5).regression && at(12.6).regression);
+        assert!(!at(8.0).improvement && at(7.9).improvement && !at(7.9).regression);
+        // 20 % faster is within a 25 % threshold however clear the history.
+        assert!(!at(8.3).improvement);
+        // Nothing to judge where either run has no time or a time of zero.
+        for (base, new) in [(None, Some(1.0)), (Some(1.0), None), (Some(0.0), Some(1.0)), (Some(1.0), Some(0.0))] {
+            let record = |ms| CaseRecord { gpu_ms: ms, ..record("t", ReportedOutcome::Pass, 1.0) };
+            assert_eq!(judged_at(judgement, record(base), record(new), &steady), None, "{base:?} → {new:?}");
+        }
+        // The history's median is reported with the rank.
+        let history = at(12.6).evidence.history.unwrap();
+        assert_eq!((history.runs, history.median_ms, history.p), (250, steady_median(&steady), 2.0 / 251.0));
+    }
+
+    /// The upper median of an even count, as the kit's medians are (`noise::median`).
+    fn steady_median(values: &[f64]) -> f64 {
+        let mut sorted = values.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        sorted[values.len() / 2]
+    }
+
+    #[test]
+    fn repeats_are_tested_only_where_both_runs_have_several_and_a_p_of_alpha_is_not_beyond_it() {
+        let with_repeats = |repeats: &[f64]| CaseRecord {
+            gpu_ms: Some(fragkit_report::noise::median(repeats.to_vec())),
+            gpu_ms_repeats: repeats.to_vec(),
+            ..record("t", ReportedOutcome::Pass, 1.0)
+        };
+        let base = [10.0, 10.1, 9.9, 10.05, 9.95];
+        let slower = [14.0, 14.1, 13.9, 14.05, 9.96];
+        // One repeat on a side is no sample to test.
+        let one = judged_at(TimeJudgement::default(), with_repeats(&[10.0]), with_repeats(&slower), &[]).unwrap();
+        assert_eq!(one.evidence.repeats, None, "{one:?}");
+        let one = judged_at(TimeJudgement::default(), with_repeats(&base), with_repeats(&[14.0]), &[]).unwrap();
+        assert_eq!(one.evidence.repeats, None, "{one:?}");
+        // At alpha equal to the repeats' own p the change is not beyond the noise; just above it is.
+        let p = mann_whitney_p(&base, &slower);
+        let at_alpha = |alpha| {
+            judged_at(TimeJudgement { threshold: 0.05, alpha }, with_repeats(&base), with_repeats(&slower), &[]).unwrap()
+        };
+        assert!(at_alpha(p).judged && !at_alpha(p).regression, "{:?}", at_alpha(p));
+        assert!(at_alpha(p * 1.0001).regression);
+        // So for the history's rank p: 13 ms outranks all 250 earlier times, p = 2 / 251.
+        let steady: Vec<f64> = (0..250).map(|i| 9.9 + 0.2 * f64::from(i % 50) / 49.0).collect();
+        let single = |ms: f64| CaseRecord { gpu_ms: Some(ms), ..record("t", ReportedOutcome::Pass, 1.0) };
+        let rank_p = 2.0 / 251.0;
+        let history_at = |alpha| {
+            judged_at(TimeJudgement { threshold: 0.05, alpha }, single(10.0), single(13.0), &steady).unwrap()
+        };
+        assert!(history_at(rank_p * 1.5).judged && !history_at(rank_p).regression);
+        assert!(history_at(rank_p * 1.0001).regression);
+        // Faster, but no faster than the noise: no improvement.
+        let noisy = [7.0, 14.0, 9.0, 13.0, 6.0];
+        let change = judged_at(TimeJudgement::default(), with_repeats(&base), with_repeats(&noisy), &[]).unwrap();
+        assert!(change.ratio() < 0.95 && change.judged && !change.improvement, "{change:?}");
+    }
+
+    #[test]
+    fn a_run_regressed_by_a_new_failure_or_by_a_slower_time_alone() {
+        let base = [10.0, 10.1, 9.9, 10.05, 9.95];
+        let with_repeats = |repeats: &[f64], outcome| CaseRecord {
+            gpu_ms: Some(fragkit_report::noise::median(repeats.to_vec())),
+            gpu_ms_repeats: repeats.to_vec(),
+            ..record("t", outcome, 1.0)
+        };
+        let slower: Vec<f64> = base.iter().map(|t| t * 2.0).collect();
+        let run = |repeats: &[f64], outcome| report(vec![with_repeats(repeats, outcome)]);
+        let judge = TimeJudgement::default();
+        let none = GpuHistory::default();
+        assert!(!compare(&run(&base, ReportedOutcome::Pass), &run(&base, ReportedOutcome::Pass), &judge, &none).regressed());
+        let time = compare(&run(&base, ReportedOutcome::Pass), &run(&slower, ReportedOutcome::Pass), &judge, &none);
+        assert!(time.regressions.is_empty() && time.regressed());
+        let failure = compare(&run(&base, ReportedOutcome::Pass), &run(&base, ReportedOutcome::Fail), &judge, &none);
+        assert!(failure.time_changes.iter().all(|t| !t.regression) && failure.regressed());
+    }
+
+    fn change(case: &str, base_ms: f64, new_ms: f64, judged: bool) -> TimeChange {
+        let ratio = new_ms / base_ms;
+        TimeChange {
+            case: case.into(),
+            base_ms,
+            new_ms,
+            evidence: TimeEvidence::default(),
+            judged,
+            regression: judged && ratio > 1.05,
+            improvement: judged && ratio < 1.0 / 1.05,
+        }
+    }
+
+    #[test]
+    fn the_markdown_lists_every_section_and_orders_times_by_how_far_they_moved() {
+        use ReportedOutcome::*;
+        let outcome = |case: &str, base, new| OutcomeChange { case: case.into(), base, new, reason: "a | b\nmore".into() };
+        let comparison = Comparison {
+            regressions: vec![outcome("r", Pass, Fail)],
+            fixes: vec![outcome("f", Fail, Pass)],
+            other_changes: Vec::new(),
+            only_in_base: vec!["gone".into(), "gone2".into()],
+            only_in_new: Vec::new(),
+            metric_changes: vec![MetricChange { case: "m".into(), metric: "e.max".into(), base: 0.5, new: 0.25 }],
+            time_changes: vec![
+                TimeChange {
+                    evidence: TimeEvidence {
+                        repeats: Some(RepeatsTest { p: 0.004, smallest_p: 0.0079, base_runs: 5, new_runs: 5 }),
+                        history: Some(HistoryRank { runs: 3, median_ms: 1.0, p: 0.5, smallest_p: 0.5 }),
+                        not_judged: None,
+                    },
+                    ..change("slow", 1.0, 2.0, true)
+                },
+                change("slower", 1.0, 3.0, true),
+                change("fast", 2.0, 1.0, true),
+                change("same", 1.0, 1.01, true),
+                TimeChange {
+                    evidence: TimeEvidence { not_judged: Some("the case is FAIL in the new run".into()), ..Default::default() },
+                    ..change("failing", 1.0, 9.0, false)
+                },
+            ],
+            alpha: 0.01,
+        };
+        let md = comparison.markdown("base", "new");
+        let expected = "## fragkit: new against base
+
+1 regression, 1 fix, 0 other outcome changes, 1 metric change; 2 case runs only in the base, 0 only in the new run.
+
+### Regressions
+
+| case | was | now | reason |
+|---|---|---|---|
+| `r` | pass | FAIL | a \\| b |
+
+### Fixes
+
+| case | was | now | reason |
+|---|---|---|---|
+| `f` | FAIL | pass | a \\| b |
+
+### Only in the base run
+
+`gone`, `gone2`
+
+### Metric changes
+
+| case | metric | was | now |
+|---|---|---|---|
+| `m` | e.max | 0.5 | 0.25 |
+
+### GPU time
+
+5 case runs timed in both: 2 slower and 1 faster beyond the threshold and the noise; 4 judged, 1 that could not be.
+
+**Not every time could be judged**: at --alpha 0.01 the repeats need 5 runs a side (`check --repeat 5` for both runs), a history 200 earlier runs; a time that could not be judged is no verdict of \"within noise\".
+
+| case | base ms | new ms | new / base | judged by | verdict |
+|---|---|---|---|---|---|
+| `slower` | 1.000 | 3.000 | 3.000 | one time each, no history | **slower** |
+| `slow` | 1.000 | 2.000 | 2.000 | 5 vs 5 repeats, Mann–Whitney p = 4.00e-3; 3 earlier runs, median 1.000 ms: rank p = 5.00e-1 (p ≥ 0.500 at best) | **slower** |
+| `fast` | 2.000 | 1.000 | 0.500 | one time each, no history | faster |
+
+";
+        assert_eq!(md, expected);
+        // With nothing beyond the noise, the five largest moves either way are shown.
+        let quiet = Comparison {
+            time_changes: [1.5, 0.5, 1.01, 0.9, 1.2, 3.0, 1.02]
+                .iter()
+                .enumerate()
+                .map(|(i, &r)| TimeChange { regression: false, improvement: false, ..change(&format!("c{i}"), 1.0, r, i != 2) })
+                .collect(),
+            alpha: 0.01,
+            ..Default::default()
+        };
+        let md = quiet.markdown("b", "n");
+        let rows: Vec<&str> = md.lines().filter(|l| l.starts_with("| `")).map(|l| l.split('`').nth(1).unwrap()).collect();
+        assert_eq!(rows, ["c5", "c1", "c0", "c4", "c3"], "{md}");
+        assert!(md.contains("| within noise |") && !md.contains("cannot judge") && !md.contains("### Regressions"), "{md}");
+        assert!(!Comparison::default().markdown("b", "n").contains("### GPU time"));
+    }
+
+    #[test]
+    fn a_test_judges_only_where_its_smallest_p_lies_strictly_below_alpha() {
+        let repeats = |smallest_p| TimeEvidence {
+            repeats: Some(RepeatsTest { p: 0.0, smallest_p, base_runs: 3, new_runs: 3 }),
+            ..Default::default()
+        };
+        let history =
+            |smallest_p| TimeEvidence { history: Some(HistoryRank { runs: 5, median_ms: 1.0, p: 0.0, smallest_p }), ..Default::default() };
+        for evidence in [repeats(0.1), history(0.1)] {
+            assert!(!evidence.can_judge(0.1) && evidence.can_judge(0.1001) && !evidence.can_judge(0.05), "{evidence:?}");
+            let refused = TimeEvidence { not_judged: Some("why".into()), ..evidence };
+            assert!(!refused.can_judge(0.5));
+        }
+        // Either test reaching alpha is enough to judge.
+        let both = TimeEvidence { history: history(0.001).history, ..repeats(0.5) };
+        assert!(both.can_judge(0.01));
+        let change = TimeChange {
+            case: "t".into(),
+            base_ms: 8.0,
+            new_ms: 12.0,
+            evidence: TimeEvidence::default(),
+            judged: false,
+            regression: false,
+            improvement: false,
+        };
+        assert_eq!(change.ratio(), 1.5);
     }
 
     #[test]

@@ -497,3 +497,221 @@ impl fragkit_report::sink::Sink for HtmlSink<'_> {
         write_site(self.dir, &[column], &[]).map(|_| ())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fragkit_report::AdapterDescription;
+    use fragkit_report::report::ReportedOutcome::{self, *};
+    use fragkit_report::run_info::RunKind;
+
+    fn adapter(name: &str) -> AdapterDescription {
+        AdapterDescription {
+            name: name.into(),
+            backend: "vulkan".into(),
+            driver: "drv".into(),
+            driver_info: "Mesa 1".into(),
+            ..Default::default()
+        }
+    }
+
+    fn record(name: &str, outcome: ReportedOutcome) -> CaseRecord {
+        CaseRecord::unmeasured(name, outcome, "first line\nsecond <line>")
+    }
+
+    fn column(label: &str, gpu: &str, cases: Vec<CaseRecord>) -> Column {
+        Column::new(
+            label.into(),
+            Report { adapter: adapter(gpu), cases, diagnostics: Vec::new(), shard: None, run: None },
+        )
+    }
+
+    /// A fresh folder under the temp dir.
+    fn folder(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("fragkit-html-{name}-{}", std::process::id()));
+        std::fs::remove_dir_all(&dir).ok();
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    fn read(path: PathBuf) -> String {
+        std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    }
+
+    #[test]
+    fn the_matrix_marks_only_a_regression_since_the_run_before_on_the_same_adapter() {
+        let dir = folder("matrix");
+        let columns = [
+            column("run 1", "gpu", vec![record("kit.a", Pass), record("kit.b", Fail)]),
+            column("run 2", "other", vec![record("kit.a", Fail)]),
+            Column {
+                complete: false,
+                ..column("run 3", "gpu", vec![record("kit.a", Fail), record("kit.b", Pass), record("kit.c", Pass)])
+            },
+        ];
+        let index = read(write_site(&dir, &columns, &[]).unwrap());
+        assert!(index.contains(GENERATOR) && index.contains("<title>fragkit results</title>"));
+        assert!(index.contains("<p>3 case runs in 3 runs.</p>"), "{index}");
+        // kit.a regressed in run 3 against run 1 (same adapter); run 2's failure is on another.
+        let row = |case: &str| index.lines().find(|l| l.contains(&format!("data-name=\"{case}\""))).unwrap().to_owned();
+        let a = row("kit.a");
+        assert_eq!(a.matches("regressed").count(), 2, "{a}");
+        assert!(
+            a.contains("<td class=\"fail regressed\" title=\"first line\"><a href=\"case/0.html\">FAIL</a> ▼ regressed</td></tr>"),
+            "{a}"
+        );
+        assert!(a.contains("<td class=\"fail\" title=\"first line\"><a href=\"case/0.html\">FAIL</a></td><td"), "{a}");
+        let b = row("kit.b");
+        assert!(!b.contains("regressed") && b.contains("<td class=\"absent\">—</td>"), "{b}");
+        assert!(row("kit.c").contains("<a href=\"case/2.html\">kit.c</a>"));
+        // The incomplete run says so in its heading, and only it.
+        assert_eq!(index.matches("incomplete: the run ended before its last case").count(), 1);
+        assert!(index.contains("3 cases, 1 unexpected failure"), "{index}");
+        for n in 0..3 {
+            assert!(dir.join(format!("case/{n}.html")).is_file());
+        }
+        let compare = read(dir.join("compare.html"));
+        assert!(
+            compare.contains("<h2>run 3 against run 1 (gpu (vulkan))</h2>")
+                && compare.contains(
+                    "<p><b>run 3</b> against <b>run 1</b>: 1 regression, 1 fix, 0 other outcome changes, 0 metric changes, 0 GPU times slower beyond the noise.</p>"
+                )
+                && !compare.contains("run 2 against"),
+            "{compare}"
+        );
+        assert!(compare.contains("<table class=\"regressions\"><tr><th>case run</th><th>was</th><th>now</th><th>reason</th></tr><tr><td>kit.a</td><td>pass</td><td>FAIL</td><td>first line</td></tr>"), "{compare}");
+        assert!(compare.contains("<h3>Only in the new run</h3><ul><li>kit.c</li></ul>"), "{compare}");
+        // A single run has nothing to compare, and no technique reports were given.
+        let single = folder("single");
+        write_site(&single, &columns[..1], &[]).unwrap();
+        assert!(read(single.join("compare.html")).contains("No two runs on one adapter"));
+        assert!(read(single.join("reports.html")).contains("No technique reports were given"));
+        assert!(write_site(&single, &[], &[]).is_err());
+        std::fs::remove_dir_all(&dir).ok();
+        std::fs::remove_dir_all(&single).ok();
+    }
+
+    #[test]
+    fn a_case_page_shows_every_field_and_copies_its_evidence() {
+        let dir = folder("case");
+        let image = dir.join("result image.png");
+        std::fs::write(&image, b"png").unwrap();
+        let measured = CaseRecord {
+            gpu_ms: Some(2.0),
+            gpu_ms_repeats: vec![3.0, 2.0, 1.5],
+            wall_ms: 12.25,
+            attempts: 2,
+            params: [("size".to_owned(), fragkit_report::param_value::ParamValue::Count(64))].into(),
+            metrics: [("error".to_owned(), serde_json::json!({"max": 0.5}))].into(),
+            diagnostics: vec!["driver said <this>".into()],
+            evidence: vec![image, dir.join("gone.png")],
+            ..record("kit.a", Fail)
+        };
+        let single =
+            CaseRecord { gpu_ms: Some(1.25), reason: String::new(), params: measured.params.clone(), ..record("kit.a", Pass) };
+        let mut later = column("run 2", "gpu", vec![single]);
+        later.report.run = Some(RunInfo {
+            kind: RunKind::Bench,
+            started_unix: 86_400,
+            git_commit: Some("0123456789abcdef".into()),
+            tag: Some("nightly".into()),
+            shader_override: Some("/tmp/shaders".into()),
+            ..Default::default()
+        });
+        let columns = [column("run 1", "gpu", vec![measured]), later];
+        let index = read(write_site(&dir, &columns, &[]).unwrap());
+        assert!(
+            index.contains("bench · 1970-01-02 00:00 UTC · commit 0123456789<br>tag nightly<br><span class=\"incomplete\">shaders from /tmp/shaders</span>"),
+            "{index}"
+        );
+        assert!(index.contains("<th>run 1<br><small>gpu (vulkan)<br>drv Mesa 1<br>1 case, 1 unexpected failure</small></th>"), "{index}");
+        let page = read(dir.join("case/0.html"));
+        for expected in [
+            "<h2>run 1 — gpu (vulkan)</h2>\n<table><tr><th>outcome</th><td class=\"fail\">FAIL</td></tr>",
+            "<tr><th>GPU time</th><td>2.000 ms (median of 3: 3, 2, 1.5)</td></tr><tr><th>wall time</th><td>12.2 ms</td></tr><tr><th>attempts</th><td>2</td></tr><tr><th>size</th><td>64</td></tr></table>",
+            "<h3>Reason</h3><pre>first line\nsecond &lt;line&gt;</pre>",
+            "<h3>Logged by wgpu and the driver</h3><pre>driver said &lt;this&gt;</pre>",
+            "<h3>Metrics</h3><table><tr><th>metric</th><th>value</th></tr><tr><td>error.max</td><td>0.5</td></tr></table>",
+            "<figure><img src=\"../files/0_result_image.png\"",
+            "<p>missing when this page was made:",
+            "<h2>run 2 — gpu (vulkan)</h2>",
+            "<tr><th>GPU time</th><td>1.250 ms</td></tr>",
+        ] {
+            assert!(page.contains(expected), "{expected:?} not in {page}");
+        }
+        assert_eq!(page.matches("<h3>Reason</h3>").count(), 1, "an empty reason has no section");
+        assert_eq!(std::fs::read(dir.join("files/0_result_image.png")).unwrap(), b"png");
+        let unmeasured = folder("unmeasured");
+        write_site(&unmeasured, &[column("r", "gpu", vec![record("kit.a", Pass)])], &[]).unwrap();
+        let page = read(unmeasured.join("case/0.html"));
+        assert!(page.contains("<td>not measured</td>") && !page.contains("<h3>Metrics</h3>"), "{page}");
+        assert!(!page.contains("<h3>Evidence</h3>") && !page.contains("Logged by wgpu"), "{page}");
+        std::fs::remove_dir_all(&dir).ok();
+        std::fs::remove_dir_all(&unmeasured).ok();
+    }
+
+    #[test]
+    fn the_comparison_page_lists_metric_and_time_changes() {
+        let dir = folder("changes");
+        let timed = |ms: f64, metric: f64| CaseRecord {
+            gpu_ms: Some(ms),
+            gpu_ms_repeats: vec![ms, ms * 1.001, ms * 0.999, ms * 1.002, ms * 0.998],
+            metrics: [("m".to_owned(), serde_json::json!(metric))].into(),
+            ..record("kit.t", Pass)
+        };
+        let columns = [column("base", "gpu", vec![timed(10.0, 1.0)]), column("new", "gpu", vec![timed(20.0, 2.5)])];
+        write_site(&dir, &columns, &[]).unwrap();
+        let compare = read(dir.join("compare.html"));
+        for expected in [
+            "1 metric change,".to_owned(),
+            "1 GPU time slower beyond the noise".to_owned(),
+            "<tr><td>kit.t</td><td>m</td><td>1</td><td>2.5</td></tr>".to_owned(),
+            "<h3>GPU time beyond the noise</h3>".to_owned(),
+            "<tr><td>kit.t</td><td>10.000</td><td>20.000</td><td>2.000</td></tr>".to_owned(),
+            "<h3>Fixes</h3><p>none</p>".to_owned(),
+        ] {
+            assert!(compare.contains(&expected), "{expected:?} not in {compare}");
+        }
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn the_reports_page_shows_plots_and_tables_and_a_rewrite_removes_only_its_own_pages() {
+        let dir = folder("rewrite");
+        let reports = folder("reports");
+        std::fs::write(reports.join("b-plot.png"), b"png").unwrap();
+        std::fs::write(reports.join("a-table.md"), "| a <b> |").unwrap();
+        std::fs::write(reports.join("notes.txt"), "skipped").unwrap();
+        let three = column("r", "gpu", vec![record("kit.a", Pass), record("kit.b", Pass), record("kit.c", Pass)]);
+        write_site(&dir, &[three], std::slice::from_ref(&reports)).unwrap();
+        let page = read(dir.join("reports.html"));
+        let (table, plot) = (page.find("<details><summary>").unwrap(), page.find("<figure><img src=\"files/0_b_plot.png\"").unwrap());
+        assert!(table < plot && page.contains("<pre>| a &lt;b&gt; |</pre>") && !page.contains("notes.txt"), "{page}");
+        assert!(dir.join("files/0_b_plot.png").is_file() && dir.join("case/2.html").is_file());
+        write_site(&dir, &[column("r", "gpu", vec![record("kit.a", Pass)])], &[]).unwrap();
+        assert!(!dir.join("case/2.html").exists() && !dir.join("files/0_b_plot.png").exists());
+        // A folder whose index fragkit did not write keeps its files.
+        let foreign = folder("foreign");
+        std::fs::write(foreign.join("index.html"), "mine").unwrap();
+        std::fs::create_dir_all(foreign.join("case")).unwrap();
+        std::fs::write(foreign.join("case/7.html"), "mine").unwrap();
+        write_site(&foreign, &[column("r", "gpu", vec![record("kit.a", Pass)])], &[]).unwrap();
+        assert!(foreign.join("case/7.html").is_file());
+        assert!(write_site(&folder("missing"), &[column("r", "gpu", vec![])], &[dir.join("nowhere")]).is_err());
+        for d in [dir, reports, foreign, folder("missing")] {
+            std::fs::remove_dir_all(d).ok();
+        }
+    }
+
+    #[test]
+    fn the_sink_writes_a_single_run_page_set_with_its_run() {
+        let dir = folder("sink");
+        let run = RunInfo { tag: Some("mine".into()), ..Default::default() };
+        let mut sink = HtmlSink { dir: &dir, run };
+        let report = column("x", "gpu", vec![record("kit.a", Pass)]).report;
+        fragkit_report::sink::Sink::finish(&mut sink, &report).unwrap();
+        let index = read(dir.join("index.html"));
+        assert!(index.contains("<th>this run<br>") && index.contains("tag mine"), "{index}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}

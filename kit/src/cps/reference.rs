@@ -372,6 +372,19 @@ mod tests {
         assert_eq!(shaded_samples((3, 2), &lod, 2), vec![0, 3, 4, 5, 5]);
     }
 
+    #[test]
+    fn a_composited_pixel_is_within_only_when_every_colour_channel_is() {
+        let expected = Composited { colour: [0.5, 1.0, 2.0, 1.0], bound: [0.01, 0.02, 0.04] };
+        assert!(expected.within([0.51, 0.98, 2.04, 0.0]), "at the bound, alpha free");
+        for channel in 0..3 {
+            for sign in [1.0, -1.0] {
+                let mut gpu = expected.colour;
+                gpu[channel] += sign * expected.bound[channel] * 1.01;
+                assert!(!expected.within(gpu), "channel {channel} off by {sign} · 1.01 bound");
+            }
+        }
+    }
+
     /// Shading linear in screen position, in [1, 2) over the tests' screens.
     fn linear(p: [i64; 2]) -> [f32; 4] {
         let (x, y) = (p[0] as f32, p[1] as f32);

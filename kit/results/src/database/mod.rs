@@ -874,4 +874,263 @@ mod tests {
         assert!(RunRef::parse("latestx").is_err());
         assert!(RunRef::parse("yesterday").is_err());
     }
+
+    /// Runs `body` on a fresh database of each backend: an SQLite file, and a PostgreSQL database
+    /// on the server FRAGKIT_TEST_POSTGRES names (`bash .ci/postgres`; skipped with a note where
+    /// unset, except under CI).
+    fn on_each_backend(name: &str, body: impl Fn(&str)) {
+        let path = std::env::temp_dir().join(format!("fragkit-db-{name}-{}.sqlite", std::process::id()));
+        std::fs::remove_file(&path).ok();
+        body(path.to_str().unwrap());
+        std::fs::remove_file(&path).ok();
+        std::fs::remove_dir_all(path.with_extension("evidence")).ok();
+        let Ok(server) = std::env::var("FRAGKIT_TEST_POSTGRES") else {
+            assert!(std::env::var_os("CI").is_none(), "CI must test the PostgreSQL backend (.ci/postgres)");
+            eprintln!("note: FRAGKIT_TEST_POSTGRES is unset (see .ci/postgres): PostgreSQL test skipped");
+            return;
+        };
+        let database = format!("fragkit_unit_{name}_{}", std::process::id());
+        let mut client = postgres::Client::connect(&server, postgres::NoTls).unwrap();
+        client.batch_execute(&format!("DROP DATABASE IF EXISTS {database}")).unwrap();
+        client.batch_execute(&format!("CREATE DATABASE {database}")).unwrap();
+        let (base, _) = server.rsplit_once('/').expect("a URL ending in /DATABASE");
+        body(&format!("{base}/{database}"));
+        client.batch_execute(&format!("DROP DATABASE IF EXISTS {database}")).unwrap();
+    }
+
+    fn adapter(name: &str, backend: &str, driver_info: &str) -> AdapterDescription {
+        AdapterDescription {
+            name: name.into(),
+            backend: backend.into(),
+            driver: "drv".into(),
+            driver_info: driver_info.into(),
+            device_type: "Cpu".into(),
+        }
+    }
+
+    fn timed(outcome: ReportedOutcome, gpu_ms: Option<f64>, repeats: &[f64], error: f64) -> CaseRecord {
+        CaseRecord {
+            gpu_ms,
+            gpu_ms_repeats: repeats.to_vec(),
+            wall_ms: 4.0,
+            metrics: [("e".to_owned(), serde_json::json!({"max": error, "label": "x"}))].into(),
+            ..CaseRecord::unmeasured("kit.t", outcome, "")
+        }
+    }
+
+    fn run_of(adapter: &AdapterDescription, cases: Vec<CaseRecord>) -> Report {
+        Report { adapter: adapter.clone(), cases, diagnostics: Vec::new(), shard: None, run: None }
+    }
+
+    #[test]
+    fn every_field_of_a_run_and_its_case_runs_loads_back_on_each_backend() {
+        on_each_backend("fields", |location| {
+            let mut db = Database::open(location).unwrap();
+            let info = RunInfo {
+                kind: RunKind::Import,
+                started_unix: 1_700_000_000,
+                kit_version: "9.9.9".into(),
+                git_commit: Some("abc".into()),
+                host: Some("box".into()),
+                tag: Some("t1".into()),
+                shader_override: Some("/s".into()),
+            };
+            let case = CaseRecord {
+                params: [("n".to_owned(), fragkit_report::param_value::ParamValue::Counts(vec![1, 4]))].into(),
+                attempts: 3,
+                reason: "two\nlines".into(),
+                ..timed(ReportedOutcome::Flaky, None, &[], 0.25)
+            };
+            let report = run_of(&adapter("gpu", "gl", "Mesa 1"), vec![case, timed(ReportedOutcome::Pass, Some(1.5), &[1.0, 2.0, 1.5], 0.5)]);
+            let id = db.record(&report, &info, Some("digest")).unwrap();
+            let loaded = db.load(id).unwrap();
+            let expected = Report { run: Some(info.clone()), ..report };
+            assert_eq!(serde_json::to_value(&loaded).unwrap(), serde_json::to_value(&expected).unwrap());
+            assert_eq!(db.imported_as("digest").unwrap(), Some(id));
+            assert_eq!(db.imported_as("other").unwrap(), None);
+            let runs = db.runs().unwrap();
+            assert_eq!(
+                runs,
+                [RunSummary {
+                    id,
+                    kind: RunKind::Import,
+                    complete: true,
+                    started_unix: 1_700_000_000,
+                    git_commit: Some("abc".into()),
+                    tag: Some("t1".into()),
+                    shader_override: Some("/s".into()),
+                    adapter: "gpu (gl)".into(),
+                    case_runs: 2,
+                }]
+            );
+            assert!(format!("{:#}", db.load(id + 100).unwrap_err()).contains(&format!("holds no run {}", id + 100)));
+            assert!(format!("{:#}", db.resolve(&RunRef::Tag("none".into())).unwrap_err()).contains("no run tag:none (1 runs recorded)"));
+            assert_eq!(db.resolve(&RunRef::Id(id)).unwrap(), id);
+            drop(db);
+            // Opened again, the schema is not migrated twice and the run is still there.
+            let mut again = Database::open_existing(location).unwrap();
+            assert_eq!(again.runs().unwrap().len(), 1);
+        });
+    }
+
+    #[test]
+    fn latest_at_an_adapter_glob_counts_back_among_that_adapters_finished_runs() {
+        on_each_backend("refs", |location| {
+            let mut db = Database::open(location).unwrap();
+            let (lavapipe, gl) = (adapter("llvmpipe", "vulkan", "Mesa 1"), adapter("llvmpipe", "gl", "Mesa 1"));
+            let mut ids = Vec::new();
+            for a in [&lavapipe, &gl, &lavapipe, &gl] {
+                ids.push(db.record(&run_of(a, vec![]), &RunInfo::default(), None).unwrap());
+            }
+            let resolve = |db: &mut Database, text: &str| db.resolve(&RunRef::parse(text).unwrap());
+            assert_eq!(resolve(&mut db, "latest@*(vulkan)").unwrap(), ids[2]);
+            assert_eq!(resolve(&mut db, "latest~1@*(vulkan)").unwrap(), ids[0]);
+            assert_eq!(resolve(&mut db, "latest@llvmpipe (gl)").unwrap(), ids[3]);
+            assert!(resolve(&mut db, "latest~2@*(gl)").is_err());
+            assert_eq!(resolve(&mut db, "latest~3").unwrap(), ids[0]);
+            assert!(resolve(&mut db, "latest~4").is_err());
+            // The latest run of each adapter, oldest first, by name and backend.
+            assert_eq!(db.latest_per_adapter().unwrap(), [ids[2], ids[3]]);
+        });
+    }
+
+    #[test]
+    fn a_history_is_each_runs_mean_with_its_warm_spread_on_matching_adapters() {
+        on_each_backend("history", |location| {
+            let mut db = Database::open(location).unwrap();
+            let (gpu, other) = (adapter("gpu", "vulkan", "Mesa 1"), adapter("other", "vulkan", "Mesa 1"));
+            let info = RunInfo::default();
+            // Run 1: two case runs of kit.t (a sweep): the mean of their values, the spread of
+            // both and the warm repeats (the first, cold, one left out of three or more).
+            let first = db
+                .record(
+                    &run_of(
+                        &gpu,
+                        vec![
+                            timed(ReportedOutcome::Pass, Some(2.0), &[9.0, 1.0, 3.0], 0.5),
+                            timed(ReportedOutcome::Fail, Some(4.0), &[], 1.5),
+                        ],
+                    ),
+                    &info,
+                    None,
+                )
+                .unwrap();
+            // Run 2, on the other adapter: left out by the glob.
+            db.record(&run_of(&other, vec![timed(ReportedOutcome::Pass, Some(7.0), &[], 0.1)]), &info, None).unwrap();
+            // Run 3: two repeats keep the first (no cold one to leave out of two); no metric.
+            let third = db
+                .record(
+                    &run_of(&gpu, vec![CaseRecord { metrics: Default::default(), ..timed(ReportedOutcome::Pass, Some(5.0), &[6.0, 5.0], 0.0) }]),
+                    &info,
+                    None,
+                )
+                .unwrap();
+            let pattern = glob::Pattern::new("gpu*").unwrap();
+            let gpu_ms = db.history("kit.t", "gpu_ms", &pattern).unwrap();
+            assert_eq!(gpu_ms.len(), 2);
+            assert_eq!(
+                (gpu_ms[0].run_id, gpu_ms[0].value, gpu_ms[0].spread, gpu_ms[0].failed, gpu_ms[0].adapter.as_str()),
+                (first, Some(3.0), Some((1.0, 4.0)), true, "gpu (vulkan)")
+            );
+            assert_eq!(gpu_ms[0].driver_info, "Mesa 1");
+            assert_eq!((gpu_ms[1].run_id, gpu_ms[1].value, gpu_ms[1].spread, gpu_ms[1].failed), (third, Some(5.0), Some((5.0, 6.0)), false));
+            let metric = db.history("kit.t", "e.max", &pattern).unwrap();
+            assert_eq!((metric[0].value, metric[0].spread), (Some(1.0), Some((0.5, 1.5))));
+            assert_eq!((metric[1].value, metric[1].spread), (None, None));
+            let wall = db.history("kit.t", "wall_ms", &pattern).unwrap();
+            assert_eq!((wall[0].value, wall[0].spread), (Some(4.0), None));
+            assert!(db.history("kit.t", "gpu_ms", &glob::Pattern::new("none*").unwrap()).is_err());
+            assert!(db.history("kit.none", "gpu_ms", &pattern).is_err());
+        });
+    }
+
+    #[test]
+    fn a_gpu_history_holds_earlier_passing_times_on_the_same_adapter_and_driver_by_kind() {
+        on_each_backend("gpu_history", |location| {
+            let mut db = Database::open(location).unwrap();
+            let gpu = adapter("gpu", "vulkan", "Mesa 1");
+            let record = |db: &mut Database, a: &AdapterDescription, kind: RunKind, case: CaseRecord| {
+                db.record(&run_of(a, vec![case]), &RunInfo { kind, ..Default::default() }, None).unwrap()
+            };
+            use ReportedOutcome::*;
+            record(&mut db, &gpu, RunKind::Check, timed(Pass, Some(1.0), &[], 0.0));
+            record(&mut db, &gpu, RunKind::Check, timed(KnownIssue, Some(2.0), &[2.0, 2.1, 1.9], 0.0));
+            // Not in it: a failure, no time, a bench, another driver, backend or adapter.
+            record(&mut db, &gpu, RunKind::Check, timed(Fail, Some(30.0), &[], 0.0));
+            record(&mut db, &gpu, RunKind::Check, timed(Pass, None, &[], 0.0));
+            record(&mut db, &gpu, RunKind::Bench, timed(Pass, Some(40.0), &[], 0.0));
+            record(&mut db, &adapter("gpu", "vulkan", "Mesa 2"), RunKind::Check, timed(Pass, Some(50.0), &[], 0.0));
+            record(&mut db, &adapter("gpu", "gl", "Mesa 1"), RunKind::Check, timed(Pass, Some(60.0), &[], 0.0));
+            record(&mut db, &adapter("gpu2", "vulkan", "Mesa 1"), RunKind::Check, timed(Pass, Some(70.0), &[], 0.0));
+            let last = record(&mut db, &gpu, RunKind::Import, timed(Pass, Some(3.0), &[], 0.0));
+            let all = db.gpu_history(&gpu, None).unwrap();
+            assert_eq!(all.single.get("kit.t"), Some(&vec![1.0, 3.0]));
+            assert_eq!(all.repeated.get("kit.t"), Some(&vec![2.0]));
+            let before = db.gpu_history(&gpu, Some(last)).unwrap();
+            assert_eq!(before.single.get("kit.t"), Some(&vec![1.0]));
+        });
+    }
+
+    #[test]
+    fn a_sink_records_its_run_case_by_case_and_marks_it_complete_at_the_end() {
+        use fragkit_report::sink::Sink;
+        on_each_backend("sink", |location| {
+            let gpu = adapter("gpu", "vulkan", "Mesa 1");
+            let mut sink = DatabaseSink::new(Database::open(location).unwrap(), RunInfo { tag: Some("sunk".into()), ..Default::default() });
+            sink.start(&gpu, 2).unwrap();
+            let id = sink.run_id.expect("the run is written when it starts");
+            sink.record(&timed(ReportedOutcome::Pass, Some(1.0), &[], 0.0)).unwrap();
+            sink.record(&CaseRecord::unmeasured("kit.u", ReportedOutcome::Fail, "why")).unwrap();
+            let mut reader = Database::open_existing(location).unwrap();
+            let summary = |db: &mut Database| db.runs().unwrap().into_iter().find(|r| r.id == id).unwrap();
+            assert_eq!((summary(&mut reader).complete, summary(&mut reader).case_runs), (false, 2));
+            let loaded = reader.load(id).unwrap();
+            assert_eq!(loaded.adapter, gpu);
+            assert_eq!(loaded.cases.iter().map(|c| c.name.as_str()).collect::<Vec<_>>(), ["kit.t", "kit.u"]);
+            sink.finish(&loaded).unwrap();
+            assert!(summary(&mut reader).complete);
+            assert_eq!(reader.resolve(&RunRef::Tag("sunk".into())).unwrap(), id);
+        });
+    }
+
+    #[test]
+    fn a_database_of_other_tables_or_a_missing_file_is_refused_and_an_old_schema_migrated() {
+        let dir = std::env::temp_dir().join(format!("fragkit-db-refusals-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let foreign = dir.join("foreign.sqlite");
+        rusqlite::Connection::open(&foreign).unwrap().execute_batch("CREATE TABLE mine (x INTEGER)").unwrap();
+        let error = format!("{:#}", Database::open(foreign.to_str().unwrap()).err().unwrap());
+        assert!(error.contains("holds other tables and no fragkit schema version"), "{error}");
+        assert!(Database::open_existing(dir.join("missing.sqlite").to_str().unwrap()).is_err());
+        assert!(!dir.join("missing.sqlite").exists());
+        // A version-1 database (no repeats, kinds or completeness) is brought up to date.
+        let old = dir.join("old.sqlite");
+        let connection = rusqlite::Connection::open(&old).unwrap();
+        connection.execute_batch(&migration_sql(MIGRATIONS[0], Dialect::Sqlite)).unwrap();
+        connection.pragma_update(None, "user_version", 1).unwrap();
+        connection
+            .execute_batch(
+                "INSERT INTO runs (started_unix, kit_version, adapter, backend, driver, driver_info, device_type)
+                 VALUES (5, '0.1', 'gpu', 'vulkan', 'd', 'i', 'Cpu')",
+            )
+            .unwrap();
+        drop(connection);
+        let mut db = Database::open_existing(old.to_str().unwrap()).unwrap();
+        let runs = db.runs().unwrap();
+        assert_eq!((runs.len(), runs[0].kind, runs[0].complete, runs[0].started_unix), (1, RunKind::Check, true, 5));
+        let version: i64 =
+            rusqlite::Connection::open(&old).unwrap().query_row("PRAGMA user_version", [], |r| r.get(0)).unwrap();
+        assert_eq!(version, MIGRATIONS.len() as i64);
+        assert_eq!(db.location(), old.to_str().unwrap());
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn run_refs_print_as_they_parse() {
+        for text in ["latest", "latest~3", "latest@gpu*", "latest~2@*(gl)", "17", "tag:nightly"] {
+            assert_eq!(RunRef::parse(text).unwrap().to_string(), text);
+        }
+        assert_eq!(RunRef::parse("tag:x").unwrap(), RunRef::Tag("x".into()));
+        assert!(RunRef::parse("latest@[").is_err());
+    }
 }
