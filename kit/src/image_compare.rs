@@ -136,7 +136,10 @@ mod tests {
         let result = RgbaImage::from_pixel(5, 3, Rgba([1, 2, 3, 4]));
         let strip = side_by_side(&result, &reference, &mask);
         assert_eq!(strip.dimensions(), (15, 3));
-        assert_eq!((strip.get_pixel(4, 2), strip.get_pixel(9, 2), strip.get_pixel(12, 1)), (&Rgba([1, 2, 3, 4]), reference.get_pixel(4, 2), mask.get_pixel(2, 1)));
+        assert_eq!(
+            (strip.get_pixel(4, 2), strip.get_pixel(9, 2), strip.get_pixel(12, 1)),
+            (&Rgba([1, 2, 3, 4]), reference.get_pixel(4, 2), mask.get_pixel(2, 1))
+        );
     }
 
     #[test]

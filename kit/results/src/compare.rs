@@ -639,7 +639,8 @@ mod tests {
         // At alpha equal to the repeats' own p the change is not beyond the noise; just above it is.
         let p = mann_whitney_p(&base, &slower);
         let at_alpha = |alpha| {
-            judged_at(TimeJudgement { threshold: 0.05, alpha }, with_repeats(&base), with_repeats(&slower), &[]).unwrap()
+            judged_at(TimeJudgement { threshold: 0.05, alpha }, with_repeats(&base), with_repeats(&slower), &[])
+                .unwrap()
         };
         assert!(at_alpha(p).judged && !at_alpha(p).regression, "{:?}", at_alpha(p));
         assert!(at_alpha(p * 1.0001).regression);
@@ -647,9 +648,8 @@ mod tests {
         let steady: Vec<f64> = (0..250).map(|i| 9.9 + 0.2 * f64::from(i % 50) / 49.0).collect();
         let single = |ms: f64| CaseRecord { gpu_ms: Some(ms), ..record("t", ReportedOutcome::Pass, 1.0) };
         let rank_p = 2.0 / 251.0;
-        let history_at = |alpha| {
-            judged_at(TimeJudgement { threshold: 0.05, alpha }, single(10.0), single(13.0), &steady).unwrap()
-        };
+        let history_at =
+            |alpha| judged_at(TimeJudgement { threshold: 0.05, alpha }, single(10.0), single(13.0), &steady).unwrap();
         assert!(history_at(rank_p * 1.5).judged && !history_at(rank_p).regression);
         assert!(history_at(rank_p * 1.0001).regression);
         // Faster, but no faster than the noise: no improvement.
@@ -670,7 +670,9 @@ mod tests {
         let run = |repeats: &[f64], outcome| report(vec![with_repeats(repeats, outcome)]);
         let judge = TimeJudgement::default();
         let none = GpuHistory::default();
-        assert!(!compare(&run(&base, ReportedOutcome::Pass), &run(&base, ReportedOutcome::Pass), &judge, &none).regressed());
+        assert!(
+            !compare(&run(&base, ReportedOutcome::Pass), &run(&base, ReportedOutcome::Pass), &judge, &none).regressed()
+        );
         let time = compare(&run(&base, ReportedOutcome::Pass), &run(&slower, ReportedOutcome::Pass), &judge, &none);
         assert!(time.regressions.is_empty() && time.regressed());
         let failure = compare(&run(&base, ReportedOutcome::Pass), &run(&base, ReportedOutcome::Fail), &judge, &none);
@@ -693,7 +695,8 @@ mod tests {
     #[test]
     fn the_markdown_lists_every_section_and_orders_times_by_how_far_they_moved() {
         use ReportedOutcome::*;
-        let outcome = |case: &str, base, new| OutcomeChange { case: case.into(), base, new, reason: "a | b\nmore".into() };
+        let outcome =
+            |case: &str, base, new| OutcomeChange { case: case.into(), base, new, reason: "a | b\nmore".into() };
         let comparison = Comparison {
             regressions: vec![outcome("r", Pass, Fail)],
             fixes: vec![outcome("f", Fail, Pass)],
@@ -714,7 +717,10 @@ mod tests {
                 change("fast", 2.0, 1.0, true),
                 change("same", 1.0, 1.01, true),
                 TimeChange {
-                    evidence: TimeEvidence { not_judged: Some("the case is FAIL in the new run".into()), ..Default::default() },
+                    evidence: TimeEvidence {
+                        not_judged: Some("the case is FAIL in the new run".into()),
+                        ..Default::default()
+                    },
                     ..change("failing", 1.0, 9.0, false)
                 },
             ],
@@ -766,15 +772,23 @@ mod tests {
             time_changes: [1.5, 0.5, 1.01, 0.9, 1.2, 3.0, 1.02]
                 .iter()
                 .enumerate()
-                .map(|(i, &r)| TimeChange { regression: false, improvement: false, ..change(&format!("c{i}"), 1.0, r, i != 2) })
+                .map(|(i, &r)| TimeChange {
+                    regression: false,
+                    improvement: false,
+                    ..change(&format!("c{i}"), 1.0, r, i != 2)
+                })
                 .collect(),
             alpha: 0.01,
             ..Default::default()
         };
         let md = quiet.markdown("b", "n");
-        let rows: Vec<&str> = md.lines().filter(|l| l.starts_with("| `")).map(|l| l.split('`').nth(1).unwrap()).collect();
+        let rows: Vec<&str> =
+            md.lines().filter(|l| l.starts_with("| `")).map(|l| l.split('`').nth(1).unwrap()).collect();
         assert_eq!(rows, ["c5", "c1", "c0", "c4", "c3"], "{md}");
-        assert!(md.contains("| within noise |") && !md.contains("cannot judge") && !md.contains("### Regressions"), "{md}");
+        assert!(
+            md.contains("| within noise |") && !md.contains("cannot judge") && !md.contains("### Regressions"),
+            "{md}"
+        );
         assert!(!Comparison::default().markdown("b", "n").contains("### GPU time"));
     }
 
@@ -784,10 +798,15 @@ mod tests {
             repeats: Some(RepeatsTest { p: 0.0, smallest_p, base_runs: 3, new_runs: 3 }),
             ..Default::default()
         };
-        let history =
-            |smallest_p| TimeEvidence { history: Some(HistoryRank { runs: 5, median_ms: 1.0, p: 0.0, smallest_p }), ..Default::default() };
+        let history = |smallest_p| TimeEvidence {
+            history: Some(HistoryRank { runs: 5, median_ms: 1.0, p: 0.0, smallest_p }),
+            ..Default::default()
+        };
         for evidence in [repeats(0.1), history(0.1)] {
-            assert!(!evidence.can_judge(0.1) && evidence.can_judge(0.1001) && !evidence.can_judge(0.05), "{evidence:?}");
+            assert!(
+                !evidence.can_judge(0.1) && evidence.can_judge(0.1001) && !evidence.can_judge(0.05),
+                "{evidence:?}"
+            );
             let refused = TimeEvidence { not_judged: Some("why".into()), ..evidence };
             assert!(!refused.can_judge(0.5));
         }

@@ -54,18 +54,25 @@ pub fn step_summary(report: &Report, flaky_fails: bool) -> String {
     md
 }
 
-/// Prints the annotations as records come and appends the summary when the run finishes.
+/// Prints the annotations as records come (to standard output, where the runner reads workflow
+/// commands) and appends the summary when the run finishes.
 pub struct GithubSink {
     pub flaky_fails: bool,
     /// `GITHUB_STEP_SUMMARY`, where set.
     pub summary: Option<PathBuf>,
     adapter: AdapterDescription,
+    commands: Box<dyn std::io::Write>,
 }
 
 impl GithubSink {
     pub fn new(flaky_fails: bool) -> Self {
         let summary = std::env::var_os("GITHUB_STEP_SUMMARY").filter(|v| !v.is_empty()).map(PathBuf::from);
-        Self { flaky_fails, summary, adapter: AdapterDescription::default() }
+        Self::writing_to(flaky_fails, summary, Box::new(std::io::stdout()))
+    }
+
+    /// A sink that writes its workflow commands to `commands` and its summary to `summary`.
+    pub fn writing_to(flaky_fails: bool, summary: Option<PathBuf>, commands: Box<dyn std::io::Write>) -> Self {
+        Self { flaky_fails, summary, adapter: AdapterDescription::default(), commands }
     }
 }
 
@@ -77,7 +84,7 @@ impl fragkit_report::sink::Sink for GithubSink {
 
     fn record(&mut self, record: &CaseRecord) -> Result<()> {
         if let Some(line) = annotation(record, &self.adapter, self.flaky_fails) {
-            println!("{line}");
+            writeln!(self.commands, "{line}").context("writing a workflow command")?;
         }
         Ok(())
     }
@@ -113,5 +120,54 @@ mod tests {
         let summary = step_summary(&report, false);
         assert!(summary.contains("2 case runs: 1 unexpected failure."), "{summary}");
         assert!(summary.contains("| `kit.a` | FAIL | 50% off: 3, 4 |"), "{summary}");
+    }
+
+    /// A writer whose bytes stay readable after the sink that owns it is gone.
+    #[derive(Clone, Default)]
+    struct Shared(std::rc::Rc<std::cell::RefCell<Vec<u8>>>);
+
+    impl std::io::Write for Shared {
+        fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+            self.0.borrow_mut().extend_from_slice(bytes);
+            Ok(bytes.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn the_sink_annotates_failures_on_its_adapter_and_appends_the_summary() {
+        use fragkit_report::sink::Sink;
+        let path = std::env::temp_dir().join(format!("fragkit-step-summary-{}.md", std::process::id()));
+        std::fs::write(&path, "earlier step\n").unwrap();
+        let commands = Shared::default();
+        let mut sink = GithubSink::writing_to(true, Some(path.clone()), Box::new(commands.clone()));
+        let adapter = AdapterDescription { name: "gpu".into(), backend: "gl".into(), ..Default::default() };
+        sink.start(&adapter, 3).unwrap();
+        let cases = [
+            CaseRecord::unmeasured("kit.a", ReportedOutcome::Pass, ""),
+            CaseRecord::unmeasured("kit.b", ReportedOutcome::Flaky, "once"),
+            CaseRecord::unmeasured("kit.c", ReportedOutcome::Fail, "twice"),
+        ];
+        for case in &cases {
+            sink.record(case).unwrap();
+        }
+        let printed = String::from_utf8(commands.0.borrow().clone()).unwrap();
+        assert_eq!(
+            printed,
+            "::error title=kit.b FLAKY on gpu (gl)::once\n::error title=kit.c FAIL on gpu (gl)::twice\n"
+        );
+        let report = Report { adapter, cases: cases.to_vec(), diagnostics: Vec::new(), shard: None, run: None };
+        sink.finish(&report).unwrap();
+        let summary = std::fs::read_to_string(&path).unwrap();
+        assert!(summary.starts_with("earlier step\n### fragkit check on gpu (gl, )"), "{summary}");
+        assert!(summary.contains("3 case runs: 2 unexpected failures."), "{summary}");
+        // No summary file: nothing to append to.
+        let mut quiet = GithubSink::writing_to(false, None, Box::new(Shared::default()));
+        quiet.finish(&report).unwrap();
+        let mut unwritable = GithubSink::writing_to(false, Some(std::env::temp_dir()), Box::new(Shared::default()));
+        assert!(unwritable.finish(&report).is_err());
+        std::fs::remove_file(&path).ok();
     }
 }

@@ -607,8 +607,12 @@ mod tests {
             evidence: vec![image, dir.join("gone.png")],
             ..record("kit.a", Fail)
         };
-        let single =
-            CaseRecord { gpu_ms: Some(1.25), reason: String::new(), params: measured.params.clone(), ..record("kit.a", Pass) };
+        let single = CaseRecord {
+            gpu_ms: Some(1.25),
+            reason: String::new(),
+            params: measured.params.clone(),
+            ..record("kit.a", Pass)
+        };
         let mut later = column("run 2", "gpu", vec![single]);
         later.report.run = Some(RunInfo {
             kind: RunKind::Bench,
@@ -624,7 +628,12 @@ mod tests {
             index.contains("bench · 1970-01-02 00:00 UTC · commit 0123456789<br>tag nightly<br><span class=\"incomplete\">shaders from /tmp/shaders</span>"),
             "{index}"
         );
-        assert!(index.contains("<th>run 1<br><small>gpu (vulkan)<br>drv Mesa 1<br>1 case, 1 unexpected failure</small></th>"), "{index}");
+        assert!(
+            index.contains(
+                "<th>run 1<br><small>gpu (vulkan)<br>drv Mesa 1<br>1 case, 1 unexpected failure</small></th>"
+            ),
+            "{index}"
+        );
         let page = read(dir.join("case/0.html"));
         for expected in [
             "<h2>run 1 — gpu (vulkan)</h2>\n<table><tr><th>outcome</th><td class=\"fail\">FAIL</td></tr>",
@@ -685,7 +694,8 @@ mod tests {
         let three = column("r", "gpu", vec![record("kit.a", Pass), record("kit.b", Pass), record("kit.c", Pass)]);
         write_site(&dir, &[three], std::slice::from_ref(&reports)).unwrap();
         let page = read(dir.join("reports.html"));
-        let (table, plot) = (page.find("<details><summary>").unwrap(), page.find("<figure><img src=\"files/0_b_plot.png\"").unwrap());
+        let (table, plot) =
+            (page.find("<details><summary>").unwrap(), page.find("<figure><img src=\"files/0_b_plot.png\"").unwrap());
         assert!(table < plot && page.contains("<pre>| a &lt;b&gt; |</pre>") && !page.contains("notes.txt"), "{page}");
         assert!(dir.join("files/0_b_plot.png").is_file() && dir.join("case/2.html").is_file());
         write_site(&dir, &[column("r", "gpu", vec![record("kit.a", Pass)])], &[]).unwrap();

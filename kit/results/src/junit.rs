@@ -195,4 +195,40 @@ mod tests {
             std::fs::remove_file(&path).ok();
         }
     }
+
+    #[test]
+    fn a_sweeps_case_runs_are_told_apart_and_times_are_in_seconds() {
+        let swept = |n: u64| CaseRecord {
+            params: [("n".to_owned(), fragkit_report::param_value::ParamValue::Count(n))].into(),
+            ..record("kit.sweep", ReportedOutcome::Pass, "")
+        };
+        let flaky = record("kit.flaky", ReportedOutcome::Flaky, "failed <once>, then passed");
+        let report = Report {
+            adapter: AdapterDescription::default(),
+            cases: vec![swept(1), swept(2), record("kit.single", ReportedOutcome::Pass, ""), flaky],
+            diagnostics: Vec::new(),
+            shard: None,
+            run: None,
+        };
+        let xml = to_junit(&report, false);
+        for expected in [
+            "<testsuites name=\"fragkit\" tests=\"4\" failures=\"0\" errors=\"0\" skipped=\"0\" time=\"6.000\">",
+            "<testcase name=\"kit.sweep [n=1]\" classname=\"kit\" time=\"1.500\"/>",
+            "<testcase name=\"kit.sweep [n=2]\"",
+            "<testcase name=\"kit.single\" classname=\"kit\" time=\"1.500\"/>",
+            "<testcase name=\"kit.flaky\" classname=\"kit\" time=\"1.500\">\n      <system-out>failed &lt;once&gt;, then passed</system-out>\n    </testcase>",
+        ] {
+            assert!(xml.contains(expected), "{expected} not in {xml}");
+        }
+        let failing = to_junit(&report, true);
+        assert!(
+            failing.contains("<failure message=\"failed &lt;once&gt;, then passed\" type=\"FLAKY\">")
+                && !failing.contains("<system-out>"),
+            "{failing}"
+        );
+        let path = std::env::temp_dir().join(format!("fragkit-junit-sink-{}.xml", std::process::id()));
+        JunitSink { path: &path, flaky_fails: false }.finish(&report).unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), xml);
+        std::fs::remove_file(&path).ok();
+    }
 }

@@ -136,4 +136,64 @@ mod tests {
         assert_eq!(updated.0.len(), 4);
         assert!(updated.departures(&new).is_empty());
     }
+
+    #[test]
+    fn a_snapshot_holds_outcomes_and_untimed_metrics_and_leaves_out_intermittent_cases() {
+        use fragkit_report::AdapterDescription;
+        use fragkit_report::report::CaseRecord;
+        let measured = |name: &str, outcome| CaseRecord {
+            metrics: [("error".to_owned(), json!(0.5)), ("gpu_ms".to_owned(), json!(3.0))].into(),
+            ..CaseRecord::unmeasured(name, outcome, "")
+        };
+        let report = Report {
+            adapter: AdapterDescription { name: "gpu".into(), backend: "vulkan".into(), ..Default::default() },
+            cases: vec![
+                measured("kit.a", ReportedOutcome::Pass),
+                measured("kit.known", ReportedOutcome::KnownIssue),
+                measured("kit.wobbly", ReportedOutcome::Pass),
+            ],
+            diagnostics: Vec::new(),
+            shard: None,
+            run: None,
+        };
+        let expectations = Expectations::parse(
+            "[[known_issue]]\ncase = \"kit.wobbly\"\nreason = \"r\"\nintermittent = \"sometimes\"\n\n[[known_issue]]\ncase = \"kit.known\"\nreason = \"r\"\n",
+            "test",
+        )
+        .unwrap();
+        let held = Snapshot::of(&report, &expectations);
+        assert_eq!(
+            held,
+            snapshot(&[
+                ("kit.a", json!({"outcome": "pass", "metrics": {"error": 0.5}})),
+                ("kit.known", json!({"outcome": "known_issue", "metrics": {}})),
+            ])
+        );
+        // Written and loaded back whole; no file is no snapshot; a file of something else is an error.
+        let path = std::env::temp_dir().join(format!("fragkit-snapshot-{}.json", std::process::id()));
+        std::fs::remove_file(&path).ok();
+        assert_eq!(Snapshot::load(&path).unwrap(), None);
+        held.write(&path).unwrap();
+        assert_eq!(Snapshot::load(&path).unwrap(), Some(held));
+        std::fs::write(&path, "[1, 2]").unwrap();
+        assert!(Snapshot::load(&path).is_err());
+        std::fs::remove_file(&path).ok();
+    }
+
+    #[test]
+    fn a_departure_names_three_differences_and_counts_the_rest() {
+        let stored = snapshot(&[("a", json!({"m": [1, 2, 3, 4, 5], "list": [1, 2]}))]);
+        let new = snapshot(&[("a", json!({"m": [0, 0, 0, 0, 0], "list": [1, 2, 3]}))]);
+        assert_eq!(
+            stored.departures(&new),
+            [
+                "a.list: [1,2] in the snapshot, [1,2,3] now; a.m[0]: 1 in the snapshot, 0 now; a.m[1]: 2 in the snapshot, 0 now and 3 more"
+            ]
+        );
+        let three = snapshot(&[("a", json!({"m": [0, 0, 0, 4, 5], "list": [1, 2]}))]);
+        assert_eq!(
+            stored.departures(&three),
+            ["a.m[0]: 1 in the snapshot, 0 now; a.m[1]: 2 in the snapshot, 0 now; a.m[2]: 3 in the snapshot, 0 now"]
+        );
+    }
 }

@@ -941,7 +941,10 @@ mod tests {
                 reason: "two\nlines".into(),
                 ..timed(ReportedOutcome::Flaky, None, &[], 0.25)
             };
-            let report = run_of(&adapter("gpu", "gl", "Mesa 1"), vec![case, timed(ReportedOutcome::Pass, Some(1.5), &[1.0, 2.0, 1.5], 0.5)]);
+            let report = run_of(
+                &adapter("gpu", "gl", "Mesa 1"),
+                vec![case, timed(ReportedOutcome::Pass, Some(1.5), &[1.0, 2.0, 1.5], 0.5)],
+            );
             let id = db.record(&report, &info, Some("digest")).unwrap();
             let loaded = db.load(id).unwrap();
             let expected = Report { run: Some(info.clone()), ..report };
@@ -964,7 +967,10 @@ mod tests {
                 }]
             );
             assert!(format!("{:#}", db.load(id + 100).unwrap_err()).contains(&format!("holds no run {}", id + 100)));
-            assert!(format!("{:#}", db.resolve(&RunRef::Tag("none".into())).unwrap_err()).contains("no run tag:none (1 runs recorded)"));
+            assert!(
+                format!("{:#}", db.resolve(&RunRef::Tag("none".into())).unwrap_err())
+                    .contains("no run tag:none (1 runs recorded)")
+            );
             assert_eq!(db.resolve(&RunRef::Id(id)).unwrap(), id);
             drop(db);
             // Opened again, the schema is not migrated twice and the run is still there.
@@ -1020,7 +1026,13 @@ mod tests {
             // Run 3: two repeats keep the first (no cold one to leave out of two); no metric.
             let third = db
                 .record(
-                    &run_of(&gpu, vec![CaseRecord { metrics: Default::default(), ..timed(ReportedOutcome::Pass, Some(5.0), &[6.0, 5.0], 0.0) }]),
+                    &run_of(
+                        &gpu,
+                        vec![CaseRecord {
+                            metrics: Default::default(),
+                            ..timed(ReportedOutcome::Pass, Some(5.0), &[6.0, 5.0], 0.0)
+                        }],
+                    ),
                     &info,
                     None,
                 )
@@ -1033,7 +1045,10 @@ mod tests {
                 (first, Some(3.0), Some((1.0, 4.0)), true, "gpu (vulkan)")
             );
             assert_eq!(gpu_ms[0].driver_info, "Mesa 1");
-            assert_eq!((gpu_ms[1].run_id, gpu_ms[1].value, gpu_ms[1].spread, gpu_ms[1].failed), (third, Some(5.0), Some((5.0, 6.0)), false));
+            assert_eq!(
+                (gpu_ms[1].run_id, gpu_ms[1].value, gpu_ms[1].spread, gpu_ms[1].failed),
+                (third, Some(5.0), Some((5.0, 6.0)), false)
+            );
             let metric = db.history("kit.t", "e.max", &pattern).unwrap();
             assert_eq!((metric[0].value, metric[0].spread), (Some(1.0), Some((0.5, 1.5))));
             assert_eq!((metric[1].value, metric[1].spread), (None, None));
@@ -1076,7 +1091,10 @@ mod tests {
         use fragkit_report::sink::Sink;
         on_each_backend("sink", |location| {
             let gpu = adapter("gpu", "vulkan", "Mesa 1");
-            let mut sink = DatabaseSink::new(Database::open(location).unwrap(), RunInfo { tag: Some("sunk".into()), ..Default::default() });
+            let mut sink = DatabaseSink::new(
+                Database::open(location).unwrap(),
+                RunInfo { tag: Some("sunk".into()), ..Default::default() },
+            );
             sink.start(&gpu, 2).unwrap();
             let id = sink.run_id.expect("the run is written when it starts");
             sink.record(&timed(ReportedOutcome::Pass, Some(1.0), &[], 0.0)).unwrap();

@@ -448,4 +448,114 @@ mod tests {
         assert_eq!(redact("postgres://kit@db/runs"), "postgres://kit@db/runs");
         assert_eq!(redact("results.sqlite"), "results.sqlite");
     }
+
+    #[test]
+    fn an_empty_sqlite_url_and_a_url_of_no_scheme_are_not_files() {
+        for refused in ["sqlite://", "file://"] {
+            assert!(Location::parse(refused).is_err(), "{refused}");
+        }
+        assert_eq!(Location::parse("file:///tmp/x.db").unwrap(), Location::Sqlite("/tmp/x.db".into()));
+        // An '@' before the scheme is no user's: nothing to redact.
+        assert_eq!(redact("me@box://u:secret@h/db"), "me@box://u:***@h/db");
+        assert_eq!(redact("a@b://c"), "a@b://c");
+    }
+
+    #[test]
+    fn an_sqlite_file_opened_read_only_is_refused_for_recording_and_read_through_a_uri() {
+        let path = std::env::temp_dir().join(format!("fragkit-store-ro-{}.sqlite", std::process::id()));
+        std::fs::remove_file(&path).ok();
+        let mut store = Store::open(&Location::Sqlite(path.clone()), Access::Record).unwrap();
+        store.transaction(|tx| tx.batch("CREATE TABLE t (x BIGINT); INSERT INTO t VALUES (7)")).unwrap();
+        drop(store);
+        let read_only = Location::Sqlite(format!("file:{}?mode=ro", path.display()).into());
+        let error = format!("{:#}", Store::open(&read_only, Access::Record).err().unwrap());
+        assert!(error.contains("is read-only: a run could not be recorded"), "{error}");
+        // The same URI names no file a reader could find; the plain path reads.
+        assert!(Store::open(&read_only, Access::Read).is_err());
+        let mut reader = Store::open(&Location::Sqlite(path.clone()), Access::Read).unwrap();
+        let row = reader.transaction(|tx| tx.query_one("SELECT x FROM t WHERE x = $1", &[7i64.into()])).unwrap();
+        assert_eq!(row.unwrap().0, [Value::Int(7)]);
+        std::fs::remove_file(&path).ok();
+    }
+
+    /// A connection to the server FRAGKIT_TEST_POSTGRES names (`bash .ci/postgres`), or None with
+    /// a note where unset (CI must set it).
+    fn postgres() -> Option<Store> {
+        let Ok(server) = std::env::var("FRAGKIT_TEST_POSTGRES") else {
+            assert!(std::env::var_os("CI").is_none(), "CI must test the PostgreSQL backend (.ci/postgres)");
+            eprintln!("note: FRAGKIT_TEST_POSTGRES is unset (see .ci/postgres): PostgreSQL test skipped");
+            return None;
+        };
+        Some(Store::open(&Location::parse(&server).unwrap(), Access::Record).unwrap())
+    }
+
+    #[test]
+    fn postgres_values_of_every_type_the_store_reads_and_nulls_of_each_parameter() {
+        let Some(mut store) = postgres() else { return };
+        let row = store
+            .transaction(|tx| {
+                tx.query_one(
+                    "SELECT 1::int4, 2::int8, 2.5::float4, 0.25::float8, 'v'::varchar, 'n'::name, 't'::text,
+                        $1::int8, $2::float8, $3::text, $4::int8, $5::float8, $6::text",
+                    &[Param::Int(None), Param::Real(None), Param::Text(None), 9i64.into(), 0.5f64.into(), "w".into()],
+                )
+            })
+            .unwrap()
+            .unwrap();
+        use Value::*;
+        assert_eq!(
+            row.0,
+            [
+                Int(1),
+                Int(2),
+                Real(2.5),
+                Real(0.25),
+                Text("v".into()),
+                Text("n".into()),
+                Text("t".into()),
+                Null,
+                Null,
+                Null,
+                Int(9),
+                Real(0.5),
+                Text("w".into())
+            ]
+        );
+        let error = store.transaction(|tx| tx.query("SELECT 'x'::bytea", &[])).unwrap_err();
+        assert!(format!("{error:#}").contains("column 0 has type bytea"), "{error:#}");
+    }
+
+    #[test]
+    fn a_server_that_ends_the_session_is_connected_to_again_and_a_bad_statement_is_not_retried() {
+        let Some(mut store) = postgres() else { return };
+        // The server ends this session (as a restart would) in the first attempt only.
+        let mut attempts = 0;
+        let started = std::time::Instant::now();
+        let result = store.transaction(|tx| {
+            attempts += 1;
+            if attempts == 1 {
+                tx.query("SELECT pg_terminate_backend(pg_backend_pid())", &[])?;
+            }
+            tx.query_one("SELECT count(*) FROM information_schema.tables", &[])?.context("a count")?.int(0)
+        });
+        assert!(result.is_ok() && attempts == 2, "{result:?} after {attempts} attempts");
+        // A statement's own error stands at once.
+        let started_bad = std::time::Instant::now();
+        let error = store.transaction(|tx| tx.batch("SELEKT 1")).unwrap_err();
+        assert!(!is_connection_error(&error) && format!("{error:#}").contains("syntax error"), "{error:#}");
+        assert!(started_bad.elapsed() < Duration::from_secs(5) && started.elapsed() < Duration::from_secs(60));
+        // A session ended by the server, and a server that is not there, are the connection's.
+        let refused = postgres::Client::connect("postgresql://fragkit@127.0.0.1:1/none", postgres::NoTls)
+            .err()
+            .map(anyhow::Error::from)
+            .unwrap();
+        assert!(is_connection_error(&refused.context("connecting")), "a refused connection");
+        let server = std::env::var("FRAGKIT_TEST_POSTGRES").unwrap();
+        let mut client = postgres::Client::connect(&server, postgres::NoTls).unwrap();
+        let terminated = client
+            .query("SELECT pg_terminate_backend(pg_backend_pid())", &[])
+            .map_err(anyhow::Error::from)
+            .unwrap_err();
+        assert!(is_connection_error(&terminated), "{terminated:#}");
+    }
 }
