@@ -205,6 +205,32 @@ mod tests {
     }
 
     #[test]
+    fn a_light_at_its_range_is_a_decision_the_bound_leaves_open_and_inside_it_lights() {
+        let ambient = 0.5 * 0.03;
+        let at = |distance: f32| {
+            let light =
+                Light { position: Vec3::new(0.0, distance, 0.0), range: 2.0, colour: Vec3::ONE, intensity: 1e6 };
+            shade(&surface_facing_up(), Vec3::new(0.0, 5.0, 0.0), &[light])
+        };
+        // Exactly at its range the window is 0: nothing added either way.
+        assert_eq!(at(2.0).colour[0], ambient);
+        // Within 2^-20 of the range the f32 comparison may go either way: the term is left out
+        // of the colour and its whole size put in the bound.
+        let edge = 2.0 * (1.0 - 2f32.powi(-21));
+        let window = 1.0 - (f64::from(edge) / 2.0).powi(2);
+        let term = 1e6 * 0.5 * window * window / (1.0 + f64::from(edge).powi(2));
+        assert_eq!(at(edge).colour[0], ambient);
+        assert!(at(edge).bound[0] >= term && term > 0.0, "{:?} against {term}", at(edge).bound);
+        // Past that it is lit, and the term is in the colour, not the bound.
+        let inside = at(2.0 * (1.0 - 1e-3));
+        assert!(inside.colour[0] > ambient + 0.1 && inside.bound[0] < 1e-3, "{inside:?}");
+        // Just beyond the ambiguity nothing is added and nothing left open.
+        let beyond = at(2.0 * (1.0 + 2f32.powi(-18)));
+        assert_eq!(beyond.colour[0], ambient);
+        assert!(beyond.bound[0] < 1e-4, "{beyond:?}");
+    }
+
+    #[test]
     fn empty_pixels_are_the_background() {
         let mut surface = surface_facing_up();
         surface.position[3] = 0.0;

@@ -479,3 +479,29 @@ fn measure_routes(gpu: &Gpu, samples: u32) -> Result<PositionsMeasurement> {
     }
     Ok(PositionsMeasurement { sample_mask_honoured, routes, skipped })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_value_is_within_an_interval_up_to_its_margin_on_either_side_and_no_further() {
+        let interval = Interval::from_covered_count(65).expect("a covered count");
+        assert_eq!(interval, Interval { lo: 0.25, hi: 65.0 / 256.0 });
+        assert_eq!(Interval::from_covered_count(0), None);
+        let margin = 1.0 / 16.0;
+        for (value, within) in [
+            (0.25 - margin, true),
+            (65.0 / 256.0 + margin, true),
+            (0.25 - margin - 1e-4, false),
+            (65.0 / 256.0 + margin + 1e-4, false),
+            (0.25, true),
+        ] {
+            assert_eq!(interval.within(margin, value), within, "{value}");
+        }
+        assert_eq!(interval.mid(), (0.25 + 65.0 / 256.0) / 2.0);
+        let located = SamplePosition { x: Some(interval), y: Interval::from_covered_count(128) };
+        assert_eq!(located.mid(), Some([interval.mid(), 127.5 / 256.0]));
+        assert_eq!(SamplePosition { y: None, ..located }.mid(), None);
+    }
+}

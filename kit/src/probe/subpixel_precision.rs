@@ -137,6 +137,21 @@ mod tests {
     }
 
     #[test]
+    fn the_specification_holds_only_with_every_offset_read_a_fine_enough_grid_and_no_whole_step_moved() {
+        let at = |bits: u32, largest_move: f32, unreadable: Vec<u32>| {
+            SubpixelPrecision { bits, largest_move, unreadable }.within_specification()
+        };
+        // Four bits (a 1/16 px grid): a move under one step (plus the probe's 1/512 px) holds.
+        let step = 1.0 / 16.0;
+        assert!(at(4, step + 0.5 / 256.0 - 1e-6, vec![]) && at(8, 0.0, vec![]));
+        // Each condition alone fails it: one offset unreadable, three bits, a whole step moved.
+        assert!(!at(4, 0.0, vec![17]));
+        assert!(!at(3, 0.0, vec![]));
+        assert!(!at(4, step + 0.5 / 256.0, vec![]));
+        assert!(!at(8, 1.0 / 256.0 + 0.5 / 256.0, vec![]));
+    }
+
+    #[test]
     fn covered_counts_give_the_snapped_offset() {
         // s = 0: the edge runs from the pixel's left side, 384 of 512 pixels covered.
         assert_eq!(snapped_from_covered(384), Some(0));
