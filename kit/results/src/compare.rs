@@ -650,8 +650,16 @@ mod tests {
         let rank_p = 2.0 / 251.0;
         let history_at =
             |alpha| judged_at(TimeJudgement { threshold: 0.05, alpha }, single(10.0), single(13.0), &steady).unwrap();
-        assert!(history_at(rank_p * 1.5).judged && !history_at(rank_p).regression);
         assert!(history_at(rank_p * 1.0001).regression);
+        // A time level with the slowest earlier one: p = 2 · (1 + 1) / 251, judged (the smallest
+        // p is half that) and beyond the noise only at an alpha above it.
+        let distinct: Vec<f64> = (0..250).map(|i| 9.9 + 0.2 * f64::from(i) / 249.0).collect();
+        let tie_at =
+            |alpha| judged_at(TimeJudgement { threshold: 0.05, alpha }, single(9.0), single(10.1), &distinct).unwrap();
+        let tied_p = 4.0 / 251.0;
+        assert_eq!(tie_at(tied_p).evidence.history.unwrap().p, tied_p);
+        assert!(tie_at(tied_p).judged && !tie_at(tied_p).regression, "{:?}", tie_at(tied_p));
+        assert!(tie_at(tied_p * 1.0001).regression);
         // Faster, but no faster than the noise: no improvement.
         let noisy = [7.0, 14.0, 9.0, 13.0, 6.0];
         let change = judged_at(TimeJudgement::default(), with_repeats(&base), with_repeats(&noisy), &[]).unwrap();
@@ -790,6 +798,10 @@ mod tests {
             "{md}"
         );
         assert!(!Comparison::default().markdown("b", "n").contains("### GPU time"));
+        let all_judged =
+            Comparison { time_changes: vec![change("a", 1.0, 1.01, true)], alpha: 0.01, ..Default::default() };
+        let md = all_judged.markdown("b", "n");
+        assert!(md.contains("1 judged, 0 that could not be") && !md.contains("Not every time"), "{md}");
     }
 
     #[test]

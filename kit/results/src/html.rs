@@ -607,10 +607,15 @@ mod tests {
             evidence: vec![image, dir.join("gone.png")],
             ..record("kit.a", Fail)
         };
+        // The later run's evidence has the same file name: it gets a copy of its own.
+        let later_image = dir.join("later").join("result image.png");
+        std::fs::create_dir_all(later_image.parent().unwrap()).unwrap();
+        std::fs::write(&later_image, b"later").unwrap();
         let single = CaseRecord {
             gpu_ms: Some(1.25),
             reason: String::new(),
             params: measured.params.clone(),
+            evidence: vec![later_image],
             ..record("kit.a", Pass)
         };
         let mut later = column("run 2", "gpu", vec![single]);
@@ -650,6 +655,8 @@ mod tests {
         }
         assert_eq!(page.matches("<h3>Reason</h3>").count(), 1, "an empty reason has no section");
         assert_eq!(std::fs::read(dir.join("files/0_result_image.png")).unwrap(), b"png");
+        assert!(page.contains("<img src=\"../files/1_result_image.png\""), "{page}");
+        assert_eq!(std::fs::read(dir.join("files/1_result_image.png")).unwrap(), b"later");
         let unmeasured = folder("unmeasured");
         write_site(&unmeasured, &[column("r", "gpu", vec![record("kit.a", Pass)])], &[]).unwrap();
         let page = read(unmeasured.join("case/0.html"));

@@ -77,4 +77,36 @@ mod tests {
         let line = words("kit.* --json r.json --set k=1 --db=runs.db --github -v");
         assert_eq!(arguments_without(line, &["--json", "--db"], &["--github"]), words("kit.* --set k=1 -v"));
     }
+
+    #[test]
+    fn an_ending_names_the_signal_or_the_exit_code() {
+        use std::os::unix::process::ExitStatusExt;
+        // A wait status: the signal in the low bits, an exit code in the next byte.
+        let cases = [
+            (4, "killed by signal 4 (SIGILL)"),
+            (6, "killed by signal 6 (SIGABRT)"),
+            (7, "killed by signal 7 (SIGBUS)"),
+            (8, "killed by signal 8 (SIGFPE)"),
+            (9, "killed by signal 9 (SIGKILL)"),
+            (11, "killed by signal 11 (SIGSEGV)"),
+            (15, "killed by signal 15 (SIGTERM)"),
+            (5, "killed by signal 5 (signal)"),
+            (3 << 8, "exit 3"),
+            (0, "exit 0"),
+        ];
+        for (raw, words) in cases {
+            assert_eq!(ending(&ExitStatus::from_raw(raw)), words);
+        }
+    }
+
+    #[test]
+    fn a_log_tail_is_its_last_lines_or_nothing() {
+        let path = std::env::temp_dir().join(format!("fragkit-log-tail-{}.log", std::process::id()));
+        std::fs::write(&path, "one\ntwo\nthree\n").unwrap();
+        assert_eq!(log_tail(&path, 2), "two\nthree");
+        assert_eq!(log_tail(&path, 5), "one\ntwo\nthree");
+        assert_eq!(log_tail(&path, 0), "");
+        std::fs::remove_file(&path).unwrap();
+        assert_eq!(log_tail(&path, 2), "");
+    }
 }

@@ -210,4 +210,73 @@ mod tests {
         let error = resolved(&[("seed", "4294967296")]).unwrap().count_u32("seed").unwrap_err();
         assert!(format!("{error:#}").contains("does not fit in 32 bits"), "{error:#}");
     }
+
+    #[test]
+    fn each_kind_reads_its_values_up_to_its_bounds_and_no_further() {
+        use ParamValue::*;
+        let parse = |kind: ParamKind, text: &str| kind.parse(text).ok();
+        assert_eq!(parse(ParamKind::Count, " 12 "), Some(Count(12)));
+        assert_eq!(parse(ParamKind::Count, "-1"), None);
+        assert_eq!(parse(ParamKind::CountIn(2, 5), "2"), Some(Count(2)));
+        assert_eq!(parse(ParamKind::CountIn(2, 5), "5"), Some(Count(5)));
+        assert_eq!(parse(ParamKind::CountIn(2, 5), "1"), None);
+        assert_eq!(parse(ParamKind::CountIn(2, 5), "6"), None);
+        assert_eq!(parse(ParamKind::Counts, "1, 4,8"), Some(Counts(vec![1, 4, 8])));
+        assert_eq!(parse(ParamKind::Counts, "1,x"), None);
+        assert_eq!(parse(ParamKind::Sizes, "1x1, 7x5"), Some(Sizes(vec![(1, 1), (7, 5)])));
+        assert_eq!(parse(ParamKind::Sizes, "0x5"), None);
+        assert_eq!(parse(ParamKind::Sizes, "5x0"), None);
+        assert_eq!(parse(ParamKind::Sizes, "5by5"), None);
+        assert_eq!(parse(ParamKind::SizesFrom(4), "4x4,9x4"), Some(Sizes(vec![(4, 4), (9, 4)])));
+        assert_eq!(parse(ParamKind::SizesFrom(4), "4x4,3x9"), None);
+        assert_eq!(parse(ParamKind::SizesFrom(4), "9x3"), None);
+        assert_eq!(parse(ParamKind::Size, "1x1"), Some(Sizes(vec![(1, 1)])));
+        assert_eq!(parse(ParamKind::Size, "0x1"), None);
+        assert_eq!(parse(ParamKind::Size, "1x1,2x2"), None);
+        assert_eq!(parse(ParamKind::SizeFrom(3), "3x3"), Some(Sizes(vec![(3, 3)])));
+        assert_eq!(parse(ParamKind::SizeFrom(3), "3x2"), None);
+        let sizes = [ParamKind::Sizes, ParamKind::SizesFrom(2), ParamKind::Size, ParamKind::SizeFrom(2)];
+        assert!(sizes.iter().all(|k| k.is_size()));
+        assert!([ParamKind::Count, ParamKind::CountIn(0, 1), ParamKind::Counts].iter().all(|k| !k.is_size()));
+    }
+
+    #[test]
+    fn values_are_read_back_by_their_own_kind_only() {
+        let specs = [
+            ParamSpec { name: "n", kind: ParamKind::Count, default: "3", help: "how many" },
+            ParamSpec { name: "list", kind: ParamKind::Counts, default: "1,2", help: "" },
+            ParamSpec { name: "sizes", kind: ParamKind::Sizes, default: "2x2,3x3", help: "" },
+        ];
+        let params = Params::resolve("kit.x", &specs, &BTreeMap::new()).unwrap();
+        assert_eq!((params.count("n").unwrap(), params.counts("list").unwrap()), (3, vec![1, 2]));
+        assert_eq!(params.sizes("sizes").unwrap(), [(2, 2), (3, 3)]);
+        assert!(format!("{:#}", params.size("sizes").unwrap_err()).contains("holds 2 sizes where one is taken"));
+        for (name, wrong) in [("n", "counts"), ("list", "count"), ("sizes", "count"), ("n", "sizes")] {
+            let read = match wrong {
+                "counts" => params.counts(name).map(drop),
+                "count" => params.count(name).map(drop),
+                _ => params.sizes(name).map(drop),
+            };
+            assert!(read.is_err(), "{name} read as {wrong}");
+        }
+        assert!(format!("{:#}", params.count("none").unwrap_err()).contains("declares no parameter \"none\""));
+        // An override is named as the source of a bad value, with the parameter's help.
+        let bad = Params::resolve("kit.x", &specs, &[("n".to_owned(), "x".to_owned())].into()).unwrap_err();
+        assert!(format!("{bad:#}").contains("parameter \"n\" of kit.x (from --set): how many"), "{bad:#}");
+        // Overrides of names the case does not declare are not its business.
+        let other = Params::resolve("kit.x", &specs, &[("m".to_owned(), "x".to_owned())].into()).unwrap();
+        assert_eq!(other.to_map().len(), 3);
+    }
+
+    #[test]
+    fn set_arguments_are_trimmed_pairs_given_once() {
+        let sets = |items: &[&str]| parse_overrides(&items.iter().map(|s| (*s).to_owned()).collect::<Vec<_>>());
+        assert_eq!(
+            sets(&[" size = 8x8", "seed=3"]).unwrap(),
+            BTreeMap::from([("seed".to_owned(), "3".to_owned()), ("size".to_owned(), "8x8".to_owned())])
+        );
+        assert!(sets(&["size"]).is_err());
+        let twice = sets(&["seed=1", "seed =2"]).unwrap_err();
+        assert!(format!("{twice:#}").contains("--set seed is given twice (\"1\" and \"2\")"), "{twice:#}");
+    }
 }

@@ -58,7 +58,9 @@ mod tests {
         assert_eq!(Verdict::new().outcome(), Outcome::Pass);
         let mut verdict = Verdict::new();
         verdict.expect(true, || "not this".into());
+        assert!(verdict.is_clean() && verdict.problems().is_empty());
         verdict.fail("first");
+        assert!(!verdict.is_clean());
         verdict.expect(false, || "second".into());
         verdict.extend(["third".to_owned()]);
         assert_eq!(verdict.problems().len(), 3);

@@ -1097,14 +1097,34 @@ mod tests {
             );
             sink.start(&gpu, 2).unwrap();
             let id = sink.run_id.expect("the run is written when it starts");
-            sink.record(&timed(ReportedOutcome::Pass, Some(1.0), &[], 0.0)).unwrap();
-            sink.record(&CaseRecord::unmeasured("kit.u", ReportedOutcome::Fail, "why")).unwrap();
+            // Two case runs whose evidence files share a name: each keeps its own.
+            let folder = std::env::temp_dir().join(format!("fragkit-db-sink-evidence-{}", std::process::id()));
+            let evidence = |case: &str, text: &str| {
+                let file = folder.join(case).join("result.png");
+                std::fs::create_dir_all(file.parent().unwrap()).unwrap();
+                std::fs::write(&file, text).unwrap();
+                vec![file]
+            };
+            sink.record(&CaseRecord {
+                evidence: evidence("t", "first"),
+                ..timed(ReportedOutcome::Pass, Some(1.0), &[], 0.0)
+            })
+            .unwrap();
+            sink.record(&CaseRecord {
+                evidence: evidence("u", "second"),
+                ..CaseRecord::unmeasured("kit.u", ReportedOutcome::Fail, "why")
+            })
+            .unwrap();
             let mut reader = Database::open_existing(location).unwrap();
             let summary = |db: &mut Database| db.runs().unwrap().into_iter().find(|r| r.id == id).unwrap();
             assert_eq!((summary(&mut reader).complete, summary(&mut reader).case_runs), (false, 2));
             let loaded = reader.load(id).unwrap();
             assert_eq!(loaded.adapter, gpu);
             assert_eq!(loaded.cases.iter().map(|c| c.name.as_str()).collect::<Vec<_>>(), ["kit.t", "kit.u"]);
+            let kept: Vec<String> =
+                loaded.cases.iter().map(|c| std::fs::read_to_string(&c.evidence[0]).unwrap()).collect();
+            assert_eq!(kept, ["first", "second"]);
+            std::fs::remove_dir_all(&folder).ok();
             sink.finish(&loaded).unwrap();
             assert!(summary(&mut reader).complete);
             assert_eq!(reader.resolve(&RunRef::Tag("sunk".into())).unwrap(), id);
