@@ -151,6 +151,11 @@ impl TradeoffAxes {
         Self { max_x, floor, max_y }
     }
 
+    /// The error axis' range: the decades, widened by 0.1 % so that points on them are drawn.
+    fn error_range(&self) -> std::ops::Range<f64> {
+        self.floor * 0.999..self.max_y * 1.001
+    }
+
     /// Where an error is drawn: 0 on the floor.
     fn shown(&self, y: f64) -> f64 {
         y.max(self.floor)
@@ -211,7 +216,7 @@ pub fn tradeoff(plot: &TradeoffPlot) -> Result<()> {
             .margin(16)
             .x_label_area_size(48)
             .y_label_area_size(80)
-            .build_cartesian_2d(0.0..max_x, (floor * 0.999..max_y * 1.001).log_scale())
+            .build_cartesian_2d(0.0..max_x, axes.error_range().log_scale())
             .map_err(|e| anyhow!("{e}"))?;
         chart
             .configure_mesh()
@@ -292,6 +297,11 @@ impl HistoryAxes {
 }
 
 impl HistoryAxes {
+    /// The run axis: half a run beyond the first and the last, so that their points are inside.
+    fn run_range(&self) -> std::ops::Range<f64> {
+        (self.first as f64 - 0.5)..(self.last as f64 + 0.5)
+    }
+
     /// Ticks on the run axis: one a run, at most 25.
     fn x_labels(&self) -> usize {
         let runs = (self.last - self.first + 1) as usize;
@@ -302,6 +312,11 @@ impl HistoryAxes {
 /// A run axis tick's label: whole run ids only.
 fn run_label(x: &f64) -> String {
     if x.fract().abs() < 1e-9 { format!("{x:.0}") } else { String::new() }
+}
+
+/// Where a mark's glyph sits in its legend row: the middle of the 16 px a series' line takes.
+fn mark_in_legend((x, y): (i32, i32)) -> (i32, i32) {
+    (x + 8, y)
 }
 
 /// The points of runs where a case run failed, and of runs whose driver changed.
@@ -316,8 +331,9 @@ fn marked_runs(series: &[HistorySeries]) -> (Marked, Marked) {
 /// only at integers), each run's spread as a bar, failing runs ringed in red, driver changes
 /// crossed; the legend in headroom above the data, with entries for the marks that occur.
 pub fn history(path: &Path, title: &str, y_label: &str, series: &[HistorySeries]) -> Result<()> {
-    let HistoryAxes { first, last, y_max } = HistoryAxes::of(series);
-    let x_range = (first as f64 - 0.5)..(last as f64 + 0.5);
+    let axes = HistoryAxes::of(series);
+    let HistoryAxes { first, last, y_max } = axes;
+    let x_range = axes.run_range();
     png(path, |root| {
         let mut chart = ChartBuilder::on(root)
             .caption(title, ("sans-serif", 22))
@@ -359,14 +375,14 @@ pub fn history(path: &Path, title: &str, y_label: &str, series: &[HistorySeries]
                 .draw_series(failed.iter().map(|&(x, y)| Circle::new((x, y), 8, RED.stroke_width(2))))
                 .map_err(|e| anyhow!("{e}"))?
                 .label("a case run failed")
-                .legend(|(x, y)| Circle::new((x + 8, y), 5, RED.stroke_width(2)));
+                .legend(|at| Circle::new(mark_in_legend(at), 5, RED.stroke_width(2)));
         }
         if !changed.is_empty() {
             chart
                 .draw_series(changed.iter().map(|&(x, y)| Cross::new((x, y), 8, BLACK.stroke_width(2))))
                 .map_err(|e| anyhow!("{e}"))?
                 .label("driver changed")
-                .legend(|(x, y)| Cross::new((x + 8, y), 5, BLACK.stroke_width(2)));
+                .legend(|at| Cross::new(mark_in_legend(at), 5, BLACK.stroke_width(2)));
         }
         chart
             .configure_series_labels()
@@ -404,6 +420,7 @@ mod tests {
         // past 1.5 times the largest (0.75: 1).
         assert_eq!(axes, TradeoffAxes { max_x: 10.5, floor: 0.01, max_y: 1.0 });
         assert_eq!((axes.shown(0.0), axes.shown(0.02)), (0.01, 0.02));
+        assert_eq!(axes.error_range(), 0.01 * 0.999..1.001);
         // Series in order of first appearance, each line in step order.
         assert_eq!(series_lines(&finite, &axes), [("a", vec![(2.0, 0.01), (4.0, 0.5)]), ("b", vec![(10.0, 0.03)])]);
         // Only exact points (or none): a decade above the default floor.
@@ -412,6 +429,9 @@ mod tests {
         // An error of 0.06: floor 0.01 (half is 0.03), top 0.1 (1.5 times is 0.09).
         let one = [point("a", 1.0, 1.0, 0.06)];
         assert_eq!(TradeoffAxes::of(&drawable(&one)), TradeoffAxes { max_x: 1.05, floor: 0.01, max_y: 0.1 });
+        // An error of 0.015: half of it lies a decade lower, so the floor does too.
+        let low = [point("a", 1.0, 1.0, 0.015)];
+        assert_eq!(TradeoffAxes::of(&drawable(&low)).floor, 0.001);
     }
 
     #[test]
@@ -431,27 +451,45 @@ mod tests {
             position(&[(right, high), (left, high), (left, 0.0), (left, 0.0)]),
             corner(SeriesLabelPosition::LowerRight)
         );
-        // The middle itself counts as left and low.
-        assert_eq!(position(&[(5.0, 1.0), (right, high), (left, high)]), corner(SeriesLabelPosition::LowerRight));
+        // The middle itself counts as left and low: with one point in each other corner, the
+        // upper right is the first of the emptiest.
+        assert_eq!(
+            position(&[(5.0, 1.0), (right, high), (right, low), (left, high)]),
+            corner(SeriesLabelPosition::UpperRight)
+        );
     }
 
     #[test]
     fn colours_repeat_past_the_palette_and_each_of_five_markers_differs() {
         assert_eq!((colour(0), colour(11), colour(12), colour(13)), (PALETTE[0], PALETTE[11], PALETTE[0], PALETTE[1]));
-        // One marker of each shape at the plot's centre: the pixels of its colour.
+        // One marker of each shape in the plot's right half and its legend entry in the left: the
+        // pixels of its colour, the marker's (each from its top-left corner) — and the legend
+        // shows the very same glyph.
         let drawn = |shape: usize| {
             let image = render(|root| {
                 let mut chart = ChartBuilder::on(root)
                     .build_cartesian_2d(0.0..2.0, (0.1..10.0).log_scale())
                     .map_err(|e| anyhow!("{e}"))?;
-                draw_markers(&mut chart, shape, "m", &[(1.0, 1.0)], PALETTE[0])
+                draw_markers(&mut chart, shape, "m", &[(1.5, 1.0)], PALETTE[0])?;
+                chart
+                    .configure_series_labels()
+                    .position(SeriesLabelPosition::UpperLeft)
+                    .draw()
+                    .map_err(|e| anyhow!("{e}"))
             })
             .unwrap();
-            image
-                .enumerate_pixels()
-                .filter(|(_, _, p)| p.0 == [31, 119, 180])
-                .map(|(x, y, _)| (x, y))
-                .collect::<Vec<_>>()
+            let pixels: Vec<(u32, u32)> =
+                image.enumerate_pixels().filter(|(_, _, p)| p.0 == [31, 119, 180]).map(|(x, y, _)| (x, y)).collect();
+            let from_corner = |half: Vec<(u32, u32)>| {
+                let (x0, y0) = (half.iter().map(|p| p.0).min().unwrap(), half.iter().map(|p| p.1).min().unwrap());
+                let mut glyph: Vec<(u32, u32)> = half.iter().map(|&(x, y)| (x - x0, y - y0)).collect();
+                glyph.sort_unstable();
+                glyph
+            };
+            let (legend, marker): (Vec<_>, Vec<_>) = pixels.into_iter().partition(|p| p.0 < CANVAS.0 / 2);
+            let (legend, marker) = (from_corner(legend), from_corner(marker));
+            assert_eq!(legend, marker, "marker {shape}: the legend shows another glyph");
+            marker
         };
         let shapes: Vec<Vec<(u32, u32)>> = (0..=MARKERS).map(drawn).collect();
         assert!(shapes.iter().all(|pixels| !pixels.is_empty()));
@@ -483,11 +521,14 @@ mod tests {
         // No runs: runs 0 to 1 and a small top.
         assert_eq!(HistoryAxes::of(&[]), HistoryAxes { first: 0, last: 1, y_max: 1e-3 / (1.0 - 0.16) });
         assert_eq!(HistoryAxes::of(&one).x_labels(), 6);
+        assert_eq!(HistoryAxes::of(&one).run_range(), 2.5..7.5);
         assert_eq!(HistoryAxes { first: 1, last: 40, y_max: 1.0 }.x_labels(), 25);
         assert_eq!(
             (run_label(&3.0), run_label(&3.5), run_label(&-2.0)),
             ("3".to_owned(), String::new(), "-2".to_owned())
         );
+        // A tick a billionth off a run is no run's (1e-9's fraction is exactly 1e-9).
+        assert_eq!((run_label(&1e-9), run_label(&0.5e-9)), (String::new(), "0".to_owned()));
         let marked = [series(vec![
             run_point(1, 1.0, None, true, false),
             run_point(2, 3.0, None, false, true),
