@@ -208,7 +208,7 @@ pub fn tradeoff(plot: &TradeoffPlot) -> Result<()> {
     let TradeoffPlot { path, title, x_label, y_label, points } = plot;
     let finite = drawable(points);
     let axes = TradeoffAxes::of(&finite);
-    let TradeoffAxes { max_x, floor, max_y } = axes;
+    let max_x = axes.max_x;
     let lines = series_lines(&finite, &axes);
     png(path, |root| {
         let mut chart = ChartBuilder::on(root)
@@ -332,7 +332,7 @@ fn marked_runs(series: &[HistorySeries]) -> (Marked, Marked) {
 /// crossed; the legend in headroom above the data, with entries for the marks that occur.
 pub fn history(path: &Path, title: &str, y_label: &str, series: &[HistorySeries]) -> Result<()> {
     let axes = HistoryAxes::of(series);
-    let HistoryAxes { first, last, y_max } = axes;
+    let y_max = axes.y_max;
     let x_range = axes.run_range();
     png(path, |root| {
         let mut chart = ChartBuilder::on(root)
@@ -346,7 +346,7 @@ pub fn history(path: &Path, title: &str, y_label: &str, series: &[HistorySeries]
             .configure_mesh()
             .x_desc("run")
             .y_desc(y_label)
-            .x_labels(HistoryAxes { first, last, y_max }.x_labels())
+            .x_labels(axes.x_labels())
             .x_label_formatter(&run_label)
             .label_style(("sans-serif", 14))
             .draw()
