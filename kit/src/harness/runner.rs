@@ -252,4 +252,34 @@ mod tests {
         assert_eq!(names(&["fault.b", "kit.*"]), ["fault.b", "kit.a"]);
         assert!(select(&cases, &["*.b".to_owned()]).is_err(), "a glob not naming the prefix selects nothing");
     }
+
+    #[test]
+    fn a_set_must_name_a_selected_cases_parameter_with_a_value_it_takes() {
+        use crate::harness::{ParamKind, ParamSpec};
+        let seeded = Case {
+            params: &[ParamSpec { name: "seed", kind: ParamKind::CountIn(1, 9), default: "1", help: "" }],
+            ..Case::passing("kit.seeded")
+        };
+        let plain = Case::passing("kit.plain");
+        let cases = [&seeded, &plain];
+        let set = |key: &str, value: &str| BTreeMap::from([(key.to_owned(), value.to_owned())]);
+        assert!(check_overrides(&cases, &set("seed", "9")).is_ok());
+        assert!(check_overrides(&cases, &BTreeMap::new()).is_ok());
+        let unknown = format!("{:#}", check_overrides(&cases, &set("sead", "2")).unwrap_err());
+        assert!(
+            unknown.contains("no selected case has a parameter \"sead\"") && unknown.contains("[\"seed\"]"),
+            "{unknown}"
+        );
+        let outside = format!("{:#}", check_overrides(&cases, &set("seed", "10")).unwrap_err());
+        assert!(outside.contains("outside the allowed range 1..=9"), "{outside}");
+        assert!(check_overrides(&[&plain], &set("seed", "2")).is_err(), "a parameter only unselected cases have");
+    }
+
+    #[test]
+    fn a_panics_text_is_its_message_whatever_its_type() {
+        assert_eq!(panic_message(Box::new("static text")), "static text");
+        assert_eq!(panic_message(Box::new(String::from("owned text"))), "owned text");
+        assert_eq!(panic_message(Box::new(7u32)), "panic with a non-text payload");
+        assert!(is_opt_in("soak.cps") && is_opt_in("fault.abort") && !is_opt_in("kit.soak"));
+    }
 }

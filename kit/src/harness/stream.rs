@@ -102,4 +102,43 @@ mod tests {
         assert!(matches!(lines.as_slice(), [StreamLine::Finished { .. }]));
         std::fs::remove_file(&path).ok();
     }
+
+    #[test]
+    fn a_sinks_events_are_read_back_in_order_and_a_missing_stream_holds_none() {
+        let path = std::env::temp_dir().join(format!("fragkit-stream-sink-{}", std::process::id()));
+        std::fs::remove_file(&path).ok();
+        assert!(read_new_lines(&path, 7).unwrap().0.is_empty() && read_new_lines(&path, 7).unwrap().1 == 7);
+        let adapter = AdapterDescription { name: "gpu".into(), ..Default::default() };
+        let record = CaseRecord::unmeasured("kit.a", fragkit_report::report::ReportedOutcome::Pass, "");
+        let mut sink = StreamSink::create(&path).unwrap();
+        sink.start(&adapter, 2).unwrap();
+        sink.record(&record).unwrap();
+        let report = Report {
+            adapter: adapter.clone(),
+            cases: vec![record],
+            diagnostics: vec!["logged".into()],
+            shard: None,
+            run: None,
+        };
+        sink.finish(&report).unwrap();
+        let (lines, offset) = read_new_lines(&path, 0).unwrap();
+        assert_eq!(offset, std::fs::metadata(&path).unwrap().len());
+        match lines.as_slice() {
+            [
+                StreamLine::Start { adapter: a, runs: 2 },
+                StreamLine::Record(r),
+                StreamLine::Finished { diagnostics },
+            ] => {
+                assert_eq!(
+                    (a.name.as_str(), r.name.as_str(), diagnostics.as_slice()),
+                    ("gpu", "kit.a", &["logged".to_owned()][..])
+                );
+            }
+            other => panic!("{other:?}"),
+        }
+        // A line that is not the stream's is an error, not skipped.
+        std::fs::write(&path, "{\"nonsense\": 1}\n").unwrap();
+        assert!(read_new_lines(&path, 0).is_err());
+        std::fs::remove_file(&path).ok();
+    }
 }
