@@ -385,6 +385,39 @@ mod tests {
         }
     }
 
+    #[test]
+    fn needed_texels_are_those_whose_block_holds_a_pixel_of_their_level_by_the_definition() {
+        use crate::scene::hash::SeededRng;
+        let mut rng = SeededRng::new(37);
+        for _ in 0..60 {
+            let screen = (rng.range(1, 40), rng.range(1, 40));
+            let top = rng.range(0, 6);
+            // LODs past the top too: they count at the top.
+            let lod: Vec<u8> = (0..screen.0 * screen.1).map(|_| rng.range(0, 8) as u8).collect();
+            let mut counts = Vec::new();
+            for level in 0..=top {
+                // Texel by texel: any pixel of its 2^level block, inside the screen, whose LOD
+                // (clamped to the top) is this level.
+                let side = 1u32 << level;
+                let (w, h) = (screen.0.div_ceil(side), screen.1.div_ceil(side));
+                let definition: Vec<bool> = (0..w * h)
+                    .map(|t| {
+                        let (tx, ty) = (t % w, t / w);
+                        (ty * side..((ty + 1) * side).min(screen.1)).any(|y| {
+                            (tx * side..((tx + 1) * side).min(screen.0))
+                                .any(|x| u32::from(lod[(y * screen.0 + x) as usize]).min(top) == level)
+                        })
+                    })
+                    .collect();
+                assert_eq!(needed_texels(screen, &lod, top, level), definition, "{screen:?} top {top} level {level}");
+                counts.push(definition.iter().filter(|&&n| n).count() as u64);
+            }
+            assert_eq!(expected_shaded_texels(screen, &lod, top), counts);
+            // One G-buffer sample is lit for each needed texel.
+            assert_eq!(shaded_samples(screen, &lod, top).len() as u64, counts.iter().sum::<u64>());
+        }
+    }
+
     /// Shading linear in screen position, in [1, 2) over the tests' screens.
     fn linear(p: [i64; 2]) -> [f32; 4] {
         let (x, y) = (p[0] as f32, p[1] as f32);
