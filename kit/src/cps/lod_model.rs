@@ -211,6 +211,43 @@ mod tests {
     }
 
     #[test]
+    fn foveated_levels_stop_at_the_top_where_no_boundary_is_left_to_be_ambiguous() {
+        // Focus at x = 0, radius 1: pixel x's level is floor(log2(1.5 + x)), capped at 2.
+        let lod = foveated((64, 1), (0.0, 0.5), 1.0, 2);
+        assert_eq!(&lod.levels[..4], &[0, 1, 1, 2]);
+        assert!(lod.levels[4..].iter().all(|&l| l == 2), "capped at the top");
+        // On a power of two the level is a boundary the GPU may round either way, except past
+        // the top (level 2 either way).
+        let at = foveated((16, 1), (0.0, 0.5), 0.5, 2);
+        // Pixel 0: 1 + 0.5/0.5 = 2, the boundary between levels 0 and 1.
+        assert!(at.ambiguous[0]);
+        // Pixel 1: 1 + 1.5/0.5 = 4, between levels 1 and 2.
+        assert!(at.ambiguous[1]);
+        // Pixel 3: 1 + 3.5/0.5 = 8, past the top: not ambiguous.
+        assert!(!at.ambiguous[3] && at.levels[3] == 2);
+    }
+
+    #[test]
+    fn nested_random_levels_are_whole_aligned_blocks() {
+        for (screen, top, seed) in [((37, 23), 3, 1), ((64, 64), 4, 2), ((5, 40), 5, 3)] {
+            let lod = nested_random(screen, top, seed);
+            assert!(lod.iter().any(|&l| u32::from(l) < top), "some block split");
+            for y in 0..screen.1 {
+                for x in 0..screen.0 {
+                    let level = u32::from(lod[(y * screen.0 + x) as usize]);
+                    assert!(level <= top);
+                    let (bx, by) = (x >> level << level, y >> level << level);
+                    for yy in by..(by + (1 << level)).min(screen.1) {
+                        for xx in bx..(bx + (1 << level)).min(screen.0) {
+                            assert_eq!(u32::from(lod[(yy * screen.0 + xx) as usize]), level, "({x},{y}) in {screen:?}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
     fn content_level_is_the_coarsest_edge_free_block() {
         // 8×1 screen: a coverage change between x = 3 and x = 4 makes pixels 3 and 4 edges.
         let empty = Surface { position: [0.0; 4], normal: [0.0; 4], albedo: [0.0; 4] };
