@@ -72,36 +72,65 @@ pub struct RunOptions<'a> {
     pub repeats: u32,
 }
 
-/// Runs `run` `repeats` more times after `record`, the warm-up, keeping their GPU times: the
-/// warm-up's own time is the cold one, and kept among them it would overlap a slower build's
-/// warm times (a ×2 slower shader went unflagged for it).
-fn repeat(gpu: &Gpu, run: &CaseRun, options: &RunOptions, mut record: CaseRecord) -> CaseRecord {
-    if record.gpu_ms.is_none() {
+/// A failed case run retried up to `retries` times (`again` runs the case once more, None where
+/// it cannot: the device is lost): failing every time stays a failure, the last one's record with
+/// every attempt counted; anything else on a retry makes it `flaky`, naming the failure before.
+fn retried(mut record: CaseRecord, retries: u32, mut again: impl FnMut() -> Option<CaseRecord>) -> CaseRecord {
+    while record.outcome == ReportedOutcome::Fail && record.attempts <= retries {
+        let Some(next) = again() else { break };
+        let attempts = record.attempts + 1;
+        if next.outcome == ReportedOutcome::Fail {
+            record = CaseRecord { attempts, ..next };
+        } else {
+            let first = std::mem::take(&mut record.reason);
+            record = CaseRecord {
+                outcome: ReportedOutcome::Flaky,
+                reason: format!("failed, then {} on attempt {attempts}: {first}", next.outcome.label()),
+                attempts,
+                ..next
+            };
+        }
+    }
+    record
+}
+
+/// With `repeats` above 1, a timed case run that did not fail run `repeats` more times after
+/// `record`, the warm-up (`again` as for [`retried`]), keeping their GPU times: the warm-up's own
+/// time is the cold one, and kept among them it would overlap a slower build's warm times (a ×2
+/// slower shader went unflagged for it). The time reported is their median; a repeat whose
+/// outcome differs makes the case `flaky`.
+fn repeated(mut record: CaseRecord, repeats: u32, mut again: impl FnMut() -> Option<CaseRecord>) -> CaseRecord {
+    if repeats <= 1 || record.outcome.is_failure(true) || record.gpu_ms.is_none() {
         return record;
     }
     let mut times = Vec::new();
-    for attempt in 1..=options.repeats {
-        if gpu.lost().is_some() {
-            break;
-        }
-        let again = run_case(gpu, run.case, &run.overrides, options.expectations, options.evidence_dir);
-        if again.outcome != record.outcome {
+    for attempt in 1..=repeats {
+        let Some(next) = again() else { break };
+        if next.outcome != record.outcome {
             record.reason = format!(
-                "repeat {attempt} of {} was {} ({}) where the first run was {} ({})",
-                options.repeats,
-                again.outcome.label(),
-                again.reason,
+                "repeat {attempt} of {repeats} was {} ({}) where the first run was {} ({})",
+                next.outcome.label(),
+                next.reason,
                 record.outcome.label(),
                 record.reason
             );
             record.outcome = ReportedOutcome::Flaky;
             break;
         }
-        times.extend(again.gpu_ms);
+        times.extend(next.gpu_ms);
     }
     if !times.is_empty() {
         record.gpu_ms = Some(fragkit_report::noise::median(times.clone()));
         record.gpu_ms_repeats = times;
+    }
+    record
+}
+
+/// A failure's reason with the command line that reproduces it (`command`, where given).
+fn with_reproduce_line(mut record: CaseRecord, command: Option<&str>, run: &CaseRun) -> CaseRecord {
+    if let Some(command) = command.filter(|_| record.outcome.is_failure(true)) {
+        record.reason =
+            format!("{} [reproduce: {}]", record.reason, sweep::reproduce_line(command, run.case, &run.overrides));
     }
     record
 }
@@ -120,29 +149,15 @@ pub fn run(mut gpu: Gpu, runs: &[CaseRun], options: &RunOptions, sinks: &mut [&m
         run: None,
     };
     for run in runs {
-        let mut record = run_case(&gpu, run.case, &run.overrides, options.expectations, options.evidence_dir);
-        while record.outcome == ReportedOutcome::Fail && record.attempts <= options.retries && gpu.lost().is_none() {
-            let again = run_case(&gpu, run.case, &run.overrides, options.expectations, options.evidence_dir);
-            let attempts = record.attempts + 1;
-            if again.outcome == ReportedOutcome::Fail {
-                record = CaseRecord { attempts, ..again };
-            } else {
-                let first = std::mem::take(&mut record.reason);
-                record = CaseRecord {
-                    outcome: ReportedOutcome::Flaky,
-                    reason: format!("failed, then {} on attempt {attempts}: {first}", again.outcome.label()),
-                    attempts,
-                    ..again
-                };
-            }
-        }
-        if options.repeats > 1 && !record.outcome.is_failure(true) {
-            record = repeat(&gpu, run, options, record);
-        }
-        if let Some(command) = options.reproduce_command.filter(|_| record.outcome.is_failure(true)) {
-            record.reason =
-                format!("{} [reproduce: {}]", record.reason, sweep::reproduce_line(command, run.case, &run.overrides));
-        }
+        let once = || {
+            gpu.lost()
+                .is_none()
+                .then(|| run_case(&gpu, run.case, &run.overrides, options.expectations, options.evidence_dir))
+        };
+        let first = run_case(&gpu, run.case, &run.overrides, options.expectations, options.evidence_dir);
+        let record = retried(first, options.retries, once);
+        let record = repeated(record, options.repeats, once);
+        let record = with_reproduce_line(record, options.reproduce_command, run);
         for sink in sinks.iter_mut() {
             sink.record(&record)?;
         }
@@ -199,5 +214,83 @@ mod tests {
         let runs = plan_runs(&[&sized, &plain], &overrides, None);
         assert_eq!(runs[0].overrides, overrides);
         assert!(runs[1].overrides.is_empty(), "{:?}", runs[1].overrides);
+    }
+
+    /// A case run's records, one a run of it, in order.
+    fn script(records: Vec<CaseRecord>) -> impl FnMut() -> Option<CaseRecord> {
+        let mut records = records.into_iter();
+        move || records.next()
+    }
+
+    fn ran(outcome: ReportedOutcome, reason: &str, gpu_ms: Option<f64>) -> CaseRecord {
+        CaseRecord { gpu_ms, ..CaseRecord::unmeasured("kit.a", outcome, reason) }
+    }
+
+    #[test]
+    fn a_failure_is_retried_up_to_its_retries_and_a_later_pass_is_flaky() {
+        use ReportedOutcome::*;
+        let fail = |why: &str| ran(Fail, why, None);
+        let always = retried(fail("1st"), 2, script(vec![fail("2nd"), fail("3rd"), fail("4th")]));
+        assert_eq!((always.outcome, always.attempts, always.reason.as_str()), (Fail, 3, "3rd"));
+        let healed = retried(fail("1st"), 2, script(vec![fail("2nd"), ran(Pass, "", Some(4.0))]));
+        assert_eq!((healed.outcome, healed.attempts), (Flaky, 3));
+        assert_eq!(healed.reason, "failed, then pass on attempt 3: 2nd");
+        assert_eq!(healed.gpu_ms, Some(4.0), "the passing run's record");
+        let other = retried(fail("1st"), 1, script(vec![ran(NotSupported, "no 8x", None)]));
+        assert_eq!((other.outcome, other.reason.as_str()), (Flaky, "failed, then not_supported on attempt 2: 1st"));
+        // No retries, a device lost, or no failure: nothing runs again.
+        assert_eq!(retried(fail("1st"), 0, script(vec![ran(Pass, "", None)])).outcome, Fail);
+        assert_eq!(retried(fail("1st"), 3, script(vec![])).attempts, 1);
+        let mut asked = false;
+        let pass = retried(ran(Pass, "", None), 3, || {
+            asked = true;
+            None
+        });
+        assert!(pass.outcome == Pass && !asked);
+        assert_eq!(retried(ran(Crash, "", None), 3, script(vec![ran(Pass, "", None)])).outcome, Crash);
+    }
+
+    #[test]
+    fn repeats_keep_the_warm_times_and_a_changed_outcome_is_flaky() {
+        use ReportedOutcome::*;
+        let timed = |ms| ran(Pass, "", Some(ms));
+        let warm = repeated(timed(9.0), 3, script(vec![timed(2.0), timed(1.0), timed(3.0)]));
+        assert_eq!(
+            (warm.outcome, warm.gpu_ms, warm.gpu_ms_repeats.as_slice()),
+            (Pass, Some(2.0), &[2.0, 1.0, 3.0][..])
+        );
+        // The second repeat fails: flaky, naming both, with the time before it kept.
+        let changed = repeated(timed(9.0), 3, script(vec![timed(2.0), ran(Fail, "3 pixels", Some(5.0)), timed(1.0)]));
+        assert_eq!(changed.outcome, Flaky);
+        assert_eq!(changed.reason, "repeat 2 of 3 was FAIL (3 pixels) where the first run was pass ()");
+        assert_eq!((changed.gpu_ms, changed.gpu_ms_repeats.as_slice()), (Some(2.0), &[2.0][..]));
+        // A device lost after one repeat: that one's time.
+        let lost = repeated(timed(9.0), 3, script(vec![timed(4.0)]));
+        assert_eq!((lost.gpu_ms, lost.gpu_ms_repeats.len()), (Some(4.0), 1));
+        // One run asked for, a failure, or no GPU time: no repeats at all.
+        for record in [timed(9.0), ran(Fail, "x", Some(9.0)), ran(Flaky, "x", Some(9.0)), ran(Pass, "", None)] {
+            let repeats = if record.gpu_ms.is_some() && record.outcome == Pass { 1 } else { 3 };
+            let kept = repeated(record.clone(), repeats, script(vec![timed(1.0), timed(1.0), timed(1.0)]));
+            assert_eq!((kept.outcome, kept.gpu_ms, kept.gpu_ms_repeats.len()), (record.outcome, record.gpu_ms, 0));
+        }
+        // Repeats without GPU times (an adapter without timestamps) leave the time as it was.
+        let untimed = repeated(timed(9.0), 2, script(vec![ran(Pass, "", None), ran(Pass, "", None)]));
+        assert_eq!((untimed.gpu_ms, untimed.gpu_ms_repeats.len()), (Some(9.0), 0));
+    }
+
+    #[test]
+    fn a_failure_names_the_command_that_reproduces_it() {
+        use ReportedOutcome::*;
+        let case = Case {
+            params: &[ParamSpec { name: "n", kind: ParamKind::Count, default: "1", help: "" }],
+            ..Case::passing("kit.a")
+        };
+        let run = CaseRun { case: &case, overrides: [("n".to_owned(), "2".to_owned())].into() };
+        for (outcome, named) in [(Fail, true), (Flaky, true), (Crash, true), (Pass, false), (KnownIssue, false)] {
+            let record = with_reproduce_line(ran(outcome, "why", None), Some("fragkit check"), &run);
+            let expected = if named { "why [reproduce: fragkit check kit.a --set n=2]" } else { "why" };
+            assert_eq!(record.reason, expected, "{outcome:?}");
+        }
+        assert_eq!(with_reproduce_line(ran(Fail, "why", None), None, &run).reason, "why");
     }
 }

@@ -13,6 +13,7 @@ use super::case::{Case, Ctx, Outcome};
 use super::params::Params;
 use crate::diagnostics;
 use crate::gpu::Gpu;
+use fragkit_report::AdapterDescription;
 use fragkit_report::expectations::{Expectations, KnownIssue};
 use fragkit_report::report::{CaseRecord, ReportedOutcome};
 
@@ -68,10 +69,10 @@ pub fn check_overrides(cases: &[&Case], overrides: &BTreeMap<String, String>) ->
     Ok(())
 }
 
-/// Checks every size parameter of the selected cases against the adapter's texture limit, so
-/// that a size no target can have is refused before anything runs.
-pub fn check_sizes(gpu: &Gpu, cases: &[&Case], overrides: &BTreeMap<String, String>) -> Result<()> {
-    let max = gpu.device.limits().max_texture_dimension_2d;
+/// Checks every size parameter of the selected cases against the adapter's texture limit
+/// (`max_texture_dimension_2d`), so that a size no target can have is refused before anything
+/// runs.
+pub fn check_sizes(max: u32, cases: &[&Case], overrides: &BTreeMap<String, String>) -> Result<()> {
     for case in cases {
         let params = Params::resolve(case.name, case.params, overrides)?;
         for spec in case.params.iter().filter(|s| s.kind.is_size()) {
@@ -153,15 +154,42 @@ pub fn run_case(
     // fails the case by name, not only by the pixels it left.
     let diagnostics = diagnostics::take();
     let outcome = with_gl_errors(outcome, &diagnostics::gl_api_errors(&diagnostics));
-    let listed = expectations.find(case.name, &gpu.description);
+    let (outcome, reason) = judged(outcome, case.name, &gpu.description, expectations, !overrides.is_empty());
+    CaseRecord {
+        name: case.name.to_owned(),
+        outcome,
+        reason,
+        params: ctx.params.to_map(),
+        metrics: ctx.metrics,
+        gpu_ms,
+        gpu_ms_repeats: Vec::new(),
+        wall_ms: started.elapsed().as_secs_f64() * 1e3,
+        evidence: ctx.evidence,
+        attempts: 1,
+        diagnostics,
+    }
+}
+
+/// A case's outcome as the expectations judge it on `adapter`: a failure an entry explains is a
+/// known issue (an unexplained one a failure, saying which entries did not explain it); a pass
+/// of a listed case is an unexpected pass, unless every entry is intermittent, or the case ran
+/// away from its defaults (`swept`) and every entry may pass there.
+fn judged(
+    outcome: Outcome,
+    case: &str,
+    adapter: &AdapterDescription,
+    expectations: &Expectations,
+    swept: bool,
+) -> (ReportedOutcome, String) {
+    let listed = expectations.find(case, adapter);
     let reasons = |issues: &[&KnownIssue]| issues.iter().map(|i| i.reason.as_str()).collect::<Vec<_>>().join(" | ");
-    let (outcome, reason) = match outcome {
+    match outcome {
         Outcome::Pass if listed.is_empty() => (ReportedOutcome::Pass, String::new()),
         Outcome::Pass if listed.iter().all(|i| i.intermittent.is_some()) => {
             let why: Vec<&str> = listed.iter().filter_map(|i| i.intermittent.as_deref()).collect();
             (ReportedOutcome::Pass, format!("the listed known issues do not show on every run: {}", why.join(" | ")))
         }
-        Outcome::Pass if !overrides.is_empty() && listed.iter().all(|i| i.may_pass.is_some()) => {
+        Outcome::Pass if swept && listed.iter().all(|i| i.may_pass.is_some()) => {
             let why: Vec<&str> = listed.iter().filter_map(|i| i.may_pass.as_deref()).collect();
             (
                 ReportedOutcome::Pass,
@@ -175,7 +203,7 @@ pub fn run_case(
                 reasons(&listed)
             ),
         ),
-        Outcome::Fail(why) => match expectations.explain(case.name, &gpu.description, &why) {
+        Outcome::Fail(why) => match expectations.explain(case, adapter, &why) {
             Some(known) if !known.is_empty() => {
                 (ReportedOutcome::KnownIssue, format!("{why} [known: {}]", reasons(&known)))
             }
@@ -189,19 +217,6 @@ pub fn run_case(
             ),
         },
         Outcome::NotSupported(why) => (ReportedOutcome::NotSupported, why),
-    };
-    CaseRecord {
-        name: case.name.to_owned(),
-        outcome,
-        reason,
-        params: ctx.params.to_map(),
-        metrics: ctx.metrics,
-        gpu_ms,
-        gpu_ms_repeats: Vec::new(),
-        wall_ms: started.elapsed().as_secs_f64() * 1e3,
-        evidence: ctx.evidence,
-        attempts: 1,
-        diagnostics,
     }
 }
 
@@ -281,5 +296,78 @@ mod tests {
         assert_eq!(panic_message(Box::new(String::from("owned text"))), "owned text");
         assert_eq!(panic_message(Box::new(7u32)), "panic with a non-text payload");
         assert!(is_opt_in("soak.cps") && is_opt_in("fault.abort") && !is_opt_in("kit.soak"));
+    }
+
+    #[test]
+    fn the_expectations_judge_a_pass_and_a_failure_by_what_their_entries_say() {
+        use ReportedOutcome::*;
+        let expectations = Expectations::parse(
+            r#"
+[[known_issue]]
+case = "kit.listed"
+failure = "*pixels differ*"
+reason = "the driver's bug"
+
+[[known_issue]]
+case = "kit.sometimes"
+reason = "a race"
+intermittent = "needs a newer CPU"
+
+[[known_issue]]
+case = "kit.swept"
+reason = "at the default size"
+may_pass = "other sizes cannot show it"
+"#,
+            "test",
+        )
+        .unwrap();
+        let adapter = AdapterDescription::default();
+        let judge = |outcome: Outcome, case: &str, swept: bool| judged(outcome, case, &adapter, &expectations, swept);
+        assert_eq!(judge(Outcome::Pass, "kit.free", false), (Pass, String::new()));
+        assert_eq!(judge(Outcome::Fail("3 pixels differ".into()), "kit.free", false), (Fail, "3 pixels differ".into()));
+        assert_eq!(
+            judge(Outcome::Fail("3 pixels differ".into()), "kit.listed", false),
+            (KnownIssue, "3 pixels differ [known: the driver's bug]".into())
+        );
+        let (outcome, reason) = judge(Outcome::Fail("device lost".into()), "kit.listed", false);
+        assert_eq!(outcome, Fail);
+        assert!(
+            reason.starts_with("device lost [known issues are listed") && reason.ends_with("the driver's bug]"),
+            "{reason}"
+        );
+        let (outcome, reason) = judge(Outcome::Pass, "kit.listed", true);
+        assert_eq!(outcome, UnexpectedPass);
+        assert!(reason.contains("(the driver's bug); remove the entry"), "{reason}");
+        assert_eq!(
+            judge(Outcome::Pass, "kit.sometimes", false),
+            (Pass, "the listed known issues do not show on every run: needs a newer CPU".into())
+        );
+        assert_eq!(
+            judge(Outcome::Pass, "kit.swept", true),
+            (Pass, "the listed known issues cannot show with these parameters: other sizes cannot show it".into())
+        );
+        assert_eq!(judge(Outcome::Pass, "kit.swept", false).0, UnexpectedPass, "at the defaults the entry is stale");
+        assert_eq!(judge(Outcome::NotSupported("no 8x".into()), "kit.listed", false), (NotSupported, "no 8x".into()));
+    }
+
+    #[test]
+    fn a_size_past_the_texture_limit_is_refused_on_either_side() {
+        use crate::harness::{ParamKind, ParamSpec};
+        let sized = Case {
+            params: &[ParamSpec { name: "size", kind: ParamKind::Sizes, default: "8x8", help: "" }],
+            ..Case::passing("kit.sized")
+        };
+        let set = |value: &str| BTreeMap::from([("size".to_owned(), value.to_owned())]);
+        assert!(check_sizes(64, &[&sized], &set("64x64,1x1")).is_ok());
+        for too_large in ["65x64", "64x65"] {
+            let error = format!("{:#}", check_sizes(64, &[&sized], &set(too_large)).unwrap_err());
+            assert!(
+                error.contains(&format!("(from --set): size {too_large} exceeds this adapter's texture limit 64x64")),
+                "{error}"
+            );
+        }
+        let error = format!("{:#}", check_sizes(4, &[&sized], &BTreeMap::new()).unwrap_err());
+        assert!(error.contains("(from the default): size 8x8"), "{error}");
+        assert!(check_sizes(4, &[&Case::passing("kit.plain")], &BTreeMap::new()).is_ok());
     }
 }

@@ -136,6 +136,8 @@ mod tests {
             }
             other => panic!("{other:?}"),
         }
+        // A stream that cannot be opened for another reason than its absence is an error.
+        assert!(read_new_lines(&path.join("below a file"), 0).is_err());
         // A line that is not the stream's is an error, not skipped.
         std::fs::write(&path, "{\"nonsense\": 1}\n").unwrap();
         assert!(read_new_lines(&path, 0).is_err());

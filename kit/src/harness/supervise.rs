@@ -255,7 +255,7 @@ pub fn run_child(
     let gpu = Gpu::open(selector)?;
     let runs = &runs[skip.min(runs.len())..];
     for planned in runs {
-        check_sizes(&gpu, &[planned.case], &planned.overrides)?;
+        check_sizes(gpu.device.limits().max_texture_dimension_2d, &[planned.case], &planned.overrides)?;
     }
     let mut sink = StreamSink::create(stream)?;
     run(gpu, runs, options, &mut [&mut sink])?;

@@ -89,6 +89,38 @@ mod tests {
     }
 
     #[test]
+    fn the_name_hash_is_fnv_1a_and_draws_stay_what_earlier_runs_printed() {
+        // FNV-1a's published 32-bit values.
+        assert_eq!((name_hash(""), name_hash("a"), name_hash("foobar")), (0x811c_9dc5, 0xe40c_292c, 0xbf9c_f968));
+        // A reproduce line printed by an earlier run must draw the same set again: these are
+        // the draws of this kit's key (name, both halves of the seed, the index).
+        let at = |seed: u64, index: u32| {
+            let d = draw(&CASE, seed, index);
+            format!("{} {}", d["lights"], d["size"])
+        };
+        let pinned = [at(1, 0), at(1, 1), at(1 << 32, 0), at(7, 3)];
+        assert_eq!(pinned, ["3259 41x108", "4 60x3", "13 12x1", "240 17x7"]);
+        let other = Case { name: "kit.other", ..CASE };
+        assert_ne!(draw(&other, 1, 0), draw(&CASE, 1, 0));
+    }
+
+    #[test]
+    fn counts_are_drawn_log_uniformly_over_the_whole_range() {
+        let mut rng = SeededRng::new(5);
+        let draws: Vec<u64> = (0..3000).map(|_| log_uniform(&mut rng, 1, 999)).collect();
+        // Three decades, a third of the draws each (±5σ of a binomial of 3000 at 1/3: 129).
+        for (lo, hi) in [(1, 9), (10, 99), (100, 999)] {
+            let count = draws.iter().filter(|&&d| (lo..=hi).contains(&d)).count() as f64;
+            assert!((count - 1000.0).abs() < 129.0, "{lo}..={hi}: {count}");
+        }
+        assert!(draws.contains(&1) && draws.contains(&999), "both ends are drawn");
+        assert_eq!(log_uniform(&mut rng, 7, 7), 7);
+        assert_eq!(log_uniform(&mut rng, 9, 3), 9);
+        let mut zero = SeededRng::new(6);
+        assert!((0..200).map(|_| log_uniform(&mut zero, 0, 3)).all(|d| d <= 3));
+    }
+
+    #[test]
     fn the_reproduce_line_names_the_case_and_every_set() {
         let overrides = BTreeMap::from([("lights".to_owned(), "12".to_owned()), ("size".to_owned(), "3x4".to_owned())]);
         assert_eq!(
