@@ -204,9 +204,7 @@ fn judged(
             ),
         ),
         Outcome::Fail(why) => match expectations.explain(case, adapter, &why) {
-            Some(known) if !known.is_empty() => {
-                (ReportedOutcome::KnownIssue, format!("{why} [known: {}]", reasons(&known)))
-            }
+            Some(known) => (ReportedOutcome::KnownIssue, format!("{why} [known: {}]", reasons(&known))),
             _ if listed.is_empty() => (ReportedOutcome::Fail, why),
             _ => (
                 ReportedOutcome::Fail,

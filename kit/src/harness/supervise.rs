@@ -308,7 +308,7 @@ fn death_record(
     // One problem (the expectations split a failure at "; "), so a known issue can match it.
     let why = format!("{what} (stderr ends: {last_error})");
     let (outcome, reason) = match expectations.explain(run.case.name, adapter, &why) {
-        Some(known) if !known.is_empty() => {
+        Some(known) => {
             let reasons: Vec<&str> = known.iter().map(|k| k.reason.as_str()).collect();
             (ReportedOutcome::KnownIssue, format!("{why} [known: {}]", reasons.join(" | ")))
         }

@@ -98,8 +98,8 @@ mod tests {
             let d = draw(&CASE, seed, index);
             format!("{} {}", d["lights"], d["size"])
         };
-        let pinned = [at(1, 0), at(1, 1), at(1 << 32, 0), at(7, 3)];
-        assert_eq!(pinned, ["3259 41x108", "4 60x3", "13 12x1", "240 17x7"]);
+        let pinned = [at(1, 0), at(1, 1), at(1 << 32, 0), at(7, 3), at(1 << 32, 1)];
+        assert_eq!(pinned, ["3259 41x108", "4 60x3", "13 12x1", "240 17x7", "566 29x60"]);
         let other = Case { name: "kit.other", ..CASE };
         assert_ne!(draw(&other, 1, 0), draw(&CASE, 1, 0));
     }
@@ -114,6 +114,10 @@ mod tests {
             assert!((count - 1000.0).abs() < 129.0, "{lo}..={hi}: {count}");
         }
         assert!(draws.contains(&1) && draws.contains(&999), "both ends are drawn");
+        // From 10: two decades, half each.
+        let upper: Vec<u64> = (0..2000).map(|_| log_uniform(&mut rng, 10, 999)).collect();
+        let low = upper.iter().filter(|&&d| d < 100).count() as f64;
+        assert!((low - 1000.0).abs() < 5.0 * 500f64.sqrt(), "{low} of 2000 below 100");
         assert_eq!(log_uniform(&mut rng, 7, 7), 7);
         assert_eq!(log_uniform(&mut rng, 9, 3), 9);
         let mut zero = SeededRng::new(6);
