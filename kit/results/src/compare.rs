@@ -598,8 +598,7 @@ mod tests {
     fn the_threshold_is_a_strict_bound_on_either_side_and_a_time_needs_both_runs_timed() {
         let judgement = TimeJudgement { threshold: 0.25, alpha: 0.01 };
         let steady: Vec<f64> = (0..250).map(|i| 9.9 + 0.2 * f64::from(i % 50) / 49.0).collect();
-        let single = |ms: f64| CaseRecord { gpu_ms: Some(ms), ..record("t", ReportedOutcome::Pass, 1.0) };
-        let at = |new: f64| judged_at(judgement, single(10.0), single(new), &steady).unwrap();
+        let at = |new: f64| judged_at(judgement, timed(&[10.0]), timed(&[new]), &steady).unwrap();
         // Exactly 1.25 and 1 / 1.25 of the base are within the threshold; just past them is not.
         assert!(at(12.5).judged && !at(12.5).regression && at(12.6).regression);
         assert!(!at(8.0).improvement && at(7.9).improvement && !at(7.9).regression);
@@ -612,70 +611,54 @@ mod tests {
         }
         // The history's median is reported with the rank.
         let history = at(12.6).evidence.history.unwrap();
-        assert_eq!((history.runs, history.median_ms, history.p), (250, steady_median(&steady), 2.0 / 251.0));
-    }
-
-    /// The upper median of an even count, as the kit's medians are (`noise::median`).
-    fn steady_median(values: &[f64]) -> f64 {
-        let mut sorted = values.to_vec();
-        sorted.sort_by(f64::total_cmp);
-        sorted[values.len() / 2]
+        let median = fragkit_report::noise::median(steady.clone());
+        assert_eq!((history.runs, history.median_ms, history.p), (250, median, 2.0 / 251.0));
     }
 
     #[test]
     fn repeats_are_tested_only_where_both_runs_have_several_and_a_p_of_alpha_is_not_beyond_it() {
-        let with_repeats = |repeats: &[f64]| CaseRecord {
-            gpu_ms: Some(fragkit_report::noise::median(repeats.to_vec())),
-            gpu_ms_repeats: repeats.to_vec(),
-            ..record("t", ReportedOutcome::Pass, 1.0)
-        };
         let base = [10.0, 10.1, 9.9, 10.05, 9.95];
         let slower = [14.0, 14.1, 13.9, 14.05, 9.96];
         // One repeat on a side is no sample to test.
-        let one = judged_at(TimeJudgement::default(), with_repeats(&[10.0]), with_repeats(&slower), &[]).unwrap();
+        let one_repeat = |ms: f64| CaseRecord { gpu_ms_repeats: vec![ms], ..timed(&[ms]) };
+        let one = judged_at(TimeJudgement::default(), one_repeat(10.0), timed(&slower), &[]).unwrap();
         assert_eq!(one.evidence.repeats, None, "{one:?}");
-        let one = judged_at(TimeJudgement::default(), with_repeats(&base), with_repeats(&[14.0]), &[]).unwrap();
+        let one = judged_at(TimeJudgement::default(), timed(&base), one_repeat(14.0), &[]).unwrap();
         assert_eq!(one.evidence.repeats, None, "{one:?}");
         // At alpha equal to the repeats' own p the change is not beyond the noise; just above it is.
         let p = mann_whitney_p(&base, &slower);
-        let at_alpha = |alpha| {
-            judged_at(TimeJudgement { threshold: 0.05, alpha }, with_repeats(&base), with_repeats(&slower), &[])
-                .unwrap()
-        };
+        let at_alpha =
+            |alpha| judged_at(TimeJudgement { threshold: 0.05, alpha }, timed(&base), timed(&slower), &[]).unwrap();
         assert!(at_alpha(p).judged && !at_alpha(p).regression, "{:?}", at_alpha(p));
         assert!(at_alpha(p * 1.0001).regression);
         // So for the history's rank p: 13 ms outranks all 250 earlier times, p = 2 / 251.
         let steady: Vec<f64> = (0..250).map(|i| 9.9 + 0.2 * f64::from(i % 50) / 49.0).collect();
-        let single = |ms: f64| CaseRecord { gpu_ms: Some(ms), ..record("t", ReportedOutcome::Pass, 1.0) };
         let rank_p = 2.0 / 251.0;
-        let history_at =
-            |alpha| judged_at(TimeJudgement { threshold: 0.05, alpha }, single(10.0), single(13.0), &steady).unwrap();
+        let history_at = |alpha| {
+            judged_at(TimeJudgement { threshold: 0.05, alpha }, timed(&[10.0]), timed(&[13.0]), &steady).unwrap()
+        };
         assert!(history_at(rank_p * 1.0001).regression);
         // A time level with the slowest earlier one: p = 2 · (1 + 1) / 251, judged (the smallest
         // p is half that) and beyond the noise only at an alpha above it.
         let distinct: Vec<f64> = (0..250).map(|i| 9.9 + 0.2 * f64::from(i) / 249.0).collect();
-        let tie_at =
-            |alpha| judged_at(TimeJudgement { threshold: 0.05, alpha }, single(9.0), single(10.1), &distinct).unwrap();
+        let tie_at = |alpha| {
+            judged_at(TimeJudgement { threshold: 0.05, alpha }, timed(&[9.0]), timed(&[10.1]), &distinct).unwrap()
+        };
         let tied_p = 4.0 / 251.0;
         assert_eq!(tie_at(tied_p).evidence.history.unwrap().p, tied_p);
         assert!(tie_at(tied_p).judged && !tie_at(tied_p).regression, "{:?}", tie_at(tied_p));
         assert!(tie_at(tied_p * 1.0001).regression);
         // Faster, but no faster than the noise: no improvement.
         let noisy = [7.0, 14.0, 9.0, 13.0, 6.0];
-        let change = judged_at(TimeJudgement::default(), with_repeats(&base), with_repeats(&noisy), &[]).unwrap();
+        let change = judged_at(TimeJudgement::default(), timed(&base), timed(&noisy), &[]).unwrap();
         assert!(change.ratio() < 0.95 && change.judged && !change.improvement, "{change:?}");
     }
 
     #[test]
     fn a_run_regressed_by_a_new_failure_or_by_a_slower_time_alone() {
         let base = [10.0, 10.1, 9.9, 10.05, 9.95];
-        let with_repeats = |repeats: &[f64], outcome| CaseRecord {
-            gpu_ms: Some(fragkit_report::noise::median(repeats.to_vec())),
-            gpu_ms_repeats: repeats.to_vec(),
-            ..record("t", outcome, 1.0)
-        };
         let slower: Vec<f64> = base.iter().map(|t| t * 2.0).collect();
-        let run = |repeats: &[f64], outcome| report(vec![with_repeats(repeats, outcome)]);
+        let run = |repeats: &[f64], outcome| report(vec![CaseRecord { outcome, ..timed(repeats) }]);
         let judge = TimeJudgement::default();
         let none = GpuHistory::default();
         assert!(

@@ -208,7 +208,6 @@ pub fn tradeoff(plot: &TradeoffPlot) -> Result<()> {
     let TradeoffPlot { path, title, x_label, y_label, points } = plot;
     let finite = drawable(points);
     let axes = TradeoffAxes::of(&finite);
-    let max_x = axes.max_x;
     let lines = series_lines(&finite, &axes);
     png(path, |root| {
         let mut chart = ChartBuilder::on(root)
@@ -216,7 +215,7 @@ pub fn tradeoff(plot: &TradeoffPlot) -> Result<()> {
             .margin(16)
             .x_label_area_size(48)
             .y_label_area_size(80)
-            .build_cartesian_2d(0.0..max_x, axes.error_range().log_scale())
+            .build_cartesian_2d(0.0..axes.max_x, axes.error_range().log_scale())
             .map_err(|e| anyhow!("{e}"))?;
         chart
             .configure_mesh()
@@ -294,9 +293,7 @@ impl HistoryAxes {
         let entries = series.len() + 2;
         Self { first, last, y_max: top / (1.0 - (0.08 * entries as f64).min(0.45)) }
     }
-}
 
-impl HistoryAxes {
     /// The run axis: half a run beyond the first and the last, so that their points are inside.
     fn run_range(&self) -> std::ops::Range<f64> {
         (self.first as f64 - 0.5)..(self.last as f64 + 0.5)
@@ -319,9 +316,11 @@ fn mark_in_legend((x, y): (i32, i32)) -> (i32, i32) {
     (x + 8, y)
 }
 
+/// The (run, value) points of runs that carry a mark.
+type MarkedRuns = Vec<(f64, f64)>;
+
 /// The points of runs where a case run failed, and of runs whose driver changed.
-type Marked = Vec<(f64, f64)>;
-fn marked_runs(series: &[HistorySeries]) -> (Marked, Marked) {
+fn marked_runs(series: &[HistorySeries]) -> (MarkedRuns, MarkedRuns) {
     let points = || series.iter().flat_map(|s| s.points.iter());
     let at = |p: &RunPoint| (p.run as f64, p.value);
     (points().filter(|p| p.failed).map(at).collect(), points().filter(|p| p.driver_changed).map(at).collect())
@@ -332,15 +331,13 @@ fn marked_runs(series: &[HistorySeries]) -> (Marked, Marked) {
 /// crossed; the legend in headroom above the data, with entries for the marks that occur.
 pub fn history(path: &Path, title: &str, y_label: &str, series: &[HistorySeries]) -> Result<()> {
     let axes = HistoryAxes::of(series);
-    let y_max = axes.y_max;
-    let x_range = axes.run_range();
     png(path, |root| {
         let mut chart = ChartBuilder::on(root)
             .caption(title, ("sans-serif", 22))
             .margin(16)
             .x_label_area_size(48)
             .y_label_area_size(72)
-            .build_cartesian_2d(x_range, 0.0..y_max)
+            .build_cartesian_2d(axes.run_range(), 0.0..axes.y_max)
             .map_err(|e| anyhow!("{e}"))?;
         chart
             .configure_mesh()

@@ -149,14 +149,11 @@ pub fn run(mut gpu: Gpu, runs: &[CaseRun], options: &RunOptions, sinks: &mut [&m
         run: None,
     };
     for run in runs {
-        let once = || {
-            gpu.lost()
-                .is_none()
-                .then(|| run_case(&gpu, run.case, &run.overrides, options.expectations, options.evidence_dir))
-        };
-        let first = run_case(&gpu, run.case, &run.overrides, options.expectations, options.evidence_dir);
-        let record = retried(first, options.retries, once);
-        let record = repeated(record, options.repeats, once);
+        let run_once = || run_case(&gpu, run.case, &run.overrides, options.expectations, options.evidence_dir);
+        // Again, while the device is not lost.
+        let again = || gpu.lost().is_none().then(run_once);
+        let record = retried(run_once(), options.retries, again);
+        let record = repeated(record, options.repeats, again);
         let record = with_reproduce_line(record, options.reproduce_command, run);
         for sink in sinks.iter_mut() {
             sink.record(&record)?;

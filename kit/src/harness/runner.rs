@@ -173,13 +173,13 @@ pub fn run_case(
 /// A case's outcome as the expectations judge it on `adapter`: a failure an entry explains is a
 /// known issue (an unexplained one a failure, saying which entries did not explain it); a pass
 /// of a listed case is an unexpected pass, unless every entry is intermittent, or the case ran
-/// away from its defaults (`swept`) and every entry may pass there.
+/// away from its defaults (`--set`, a sweep) and every entry may pass there.
 fn judged(
     outcome: Outcome,
     case: &str,
     adapter: &AdapterDescription,
     expectations: &Expectations,
-    swept: bool,
+    away_from_defaults: bool,
 ) -> (ReportedOutcome, String) {
     let listed = expectations.find(case, adapter);
     let reasons = |issues: &[&KnownIssue]| issues.iter().map(|i| i.reason.as_str()).collect::<Vec<_>>().join(" | ");
@@ -189,7 +189,7 @@ fn judged(
             let why: Vec<&str> = listed.iter().filter_map(|i| i.intermittent.as_deref()).collect();
             (ReportedOutcome::Pass, format!("the listed known issues do not show on every run: {}", why.join(" | ")))
         }
-        Outcome::Pass if swept && listed.iter().all(|i| i.may_pass.is_some()) => {
+        Outcome::Pass if away_from_defaults && listed.iter().all(|i| i.may_pass.is_some()) => {
             let why: Vec<&str> = listed.iter().filter_map(|i| i.may_pass.as_deref()).collect();
             (
                 ReportedOutcome::Pass,
@@ -320,7 +320,9 @@ may_pass = "other sizes cannot show it"
         )
         .unwrap();
         let adapter = AdapterDescription::default();
-        let judge = |outcome: Outcome, case: &str, swept: bool| judged(outcome, case, &adapter, &expectations, swept);
+        let judge = |outcome: Outcome, case: &str, away_from_defaults: bool| {
+            judged(outcome, case, &adapter, &expectations, away_from_defaults)
+        };
         assert_eq!(judge(Outcome::Pass, "kit.free", false), (Pass, String::new()));
         assert_eq!(judge(Outcome::Fail("3 pixels differ".into()), "kit.free", false), (Fail, "3 pixels differ".into()));
         assert_eq!(

@@ -876,19 +876,14 @@ mod tests {
     }
 
     /// Runs `body` on a fresh database of each backend: an SQLite file, and a PostgreSQL database
-    /// on the server FRAGKIT_TEST_POSTGRES names (`bash .ci/postgres`; skipped with a note where
-    /// unset, except under CI).
+    /// on the tests' server ([`store::test_server`]).
     fn on_each_backend(name: &str, body: impl Fn(&str)) {
         let path = std::env::temp_dir().join(format!("fragkit-db-{name}-{}.sqlite", std::process::id()));
         std::fs::remove_file(&path).ok();
         body(path.to_str().unwrap());
         std::fs::remove_file(&path).ok();
         std::fs::remove_dir_all(path.with_extension("evidence")).ok();
-        let Ok(server) = std::env::var("FRAGKIT_TEST_POSTGRES") else {
-            assert!(std::env::var_os("CI").is_none(), "CI must test the PostgreSQL backend (.ci/postgres)");
-            eprintln!("note: FRAGKIT_TEST_POSTGRES is unset (see .ci/postgres): PostgreSQL test skipped");
-            return;
-        };
+        let Some(server) = store::test_server() else { return };
         let database = format!("fragkit_unit_{name}_{}", std::process::id());
         let mut client = postgres::Client::connect(&server, postgres::NoTls).unwrap();
         client.batch_execute(&format!("DROP DATABASE IF EXISTS {database}")).unwrap();

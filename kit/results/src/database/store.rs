@@ -422,6 +422,19 @@ impl Transaction<'_> {
     }
 }
 
+/// The URL of the PostgreSQL server the tests use (FRAGKIT_TEST_POSTGRES, from `bash
+/// .ci/postgres`), or None with a note where it is unset — never under CI, which must test the
+/// PostgreSQL backend.
+#[cfg(test)]
+pub(crate) fn test_server() -> Option<String> {
+    let Ok(server) = std::env::var("FRAGKIT_TEST_POSTGRES") else {
+        assert!(std::env::var_os("CI").is_none(), "CI must test the PostgreSQL backend (.ci/postgres)");
+        eprintln!("note: FRAGKIT_TEST_POSTGRES is unset (see .ci/postgres): PostgreSQL test skipped");
+        return None;
+    };
+    Some(server)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -478,15 +491,9 @@ mod tests {
         std::fs::remove_file(&path).ok();
     }
 
-    /// A connection to the server FRAGKIT_TEST_POSTGRES names (`bash .ci/postgres`), or None with
-    /// a note where unset (CI must set it).
+    /// A connection to the tests' PostgreSQL server, where there is one.
     fn postgres() -> Option<Store> {
-        let Ok(server) = std::env::var("FRAGKIT_TEST_POSTGRES") else {
-            assert!(std::env::var_os("CI").is_none(), "CI must test the PostgreSQL backend (.ci/postgres)");
-            eprintln!("note: FRAGKIT_TEST_POSTGRES is unset (see .ci/postgres): PostgreSQL test skipped");
-            return None;
-        };
-        Some(Store::open(&Location::parse(&server).unwrap(), Access::Record).unwrap())
+        test_server().map(|server| Store::open(&Location::parse(&server).unwrap(), Access::Record).unwrap())
     }
 
     #[test]
@@ -550,7 +557,7 @@ mod tests {
             .map(anyhow::Error::from)
             .unwrap();
         assert!(is_connection_error(&refused.context("connecting")), "a refused connection");
-        let server = std::env::var("FRAGKIT_TEST_POSTGRES").unwrap();
+        let server = test_server().expect("the store above connected to it");
         let mut client = postgres::Client::connect(&server, postgres::NoTls).unwrap();
         let terminated = client
             .query("SELECT pg_terminate_backend(pg_backend_pid())", &[])
