@@ -55,7 +55,12 @@ fn main() -> ExitCode {
 
 fn run(cli: Cli) -> Result<ExitCode> {
     fragkit::shaders::check_shader_dir()?;
-    let selector = AdapterSelector { backend: cli.backend, adapter_name: cli.adapter, driver_info: cli.driver_info };
+    let selector = AdapterSelector {
+        backend: cli.backend,
+        adapter_name: cli.adapter,
+        driver_info: cli.driver_info,
+        validation: cli.validation,
+    };
     match cli.command {
         Command::Adapters(args) => return cli::adapters::adapters(&selector, args, cli.verbose),
         Command::Caps(args) => cli::caps::caps(&selector, args)?,

@@ -4,7 +4,7 @@ mod command_line;
 
 use std::process::Command;
 
-use command_line::{copy_tree, fragkit};
+use command_line::{copy_tree, fragkit, fresh_postgres_database};
 
 #[test]
 fn unknown_case_pattern_is_an_error() {
@@ -449,7 +449,7 @@ fn a_killed_run_stays_incomplete_the_commit_is_the_builds_and_an_import_happens_
         .unwrap();
     let started = std::time::Instant::now();
     // The parent's stream from its child (supervise.rs's scratch file) holds the first record.
-    let stream = std::env::temp_dir().join(format!("fragkit-child-{}.stream", killed.id()));
+    let stream = std::env::temp_dir().join(format!("fragkit-child-{}-0.stream", killed.id()));
     let child = loop {
         let first_recorded = std::fs::read_to_string(&stream).is_ok_and(|text| text.contains("\"kit.hash.values\""));
         if let (true, Some(&pid)) = (first_recorded, children_of(killed.id(), "--child-stream").first()) {
@@ -621,30 +621,6 @@ fn a_run_outlives_a_postgres_restart_and_is_recorded_whole() {
     assert_eq!(code, 0, "the run is complete and holds every case run: {text}");
     assert!(text.contains("0 case runs only in the base, 0 only in the new run"), "{text}");
     std::fs::remove_dir_all(&dir).ok();
-}
-
-/// A fresh, empty PostgreSQL database named `name` on the server `.ci/run` starts (its URL in
-/// FRAGKIT_TEST_POSTGRES, from `bash .ci/postgres`). Without one the PostgreSQL tests are skipped
-/// with a note, except under CI, where they must run.
-fn fresh_postgres_database(name: &str) -> Option<String> {
-    let Ok(server) = std::env::var("FRAGKIT_TEST_POSTGRES") else {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI must test the PostgreSQL backend: run `export FRAGKIT_TEST_POSTGRES=$(bash .ci/postgres)` first"
-        );
-        eprintln!("note: FRAGKIT_TEST_POSTGRES is unset (see .ci/postgres): PostgreSQL test skipped");
-        return None;
-    };
-    let database = format!("fragkit_test_{name}");
-    let status = Command::new("psql")
-        .env("PGOPTIONS", "-c client_min_messages=warning")
-        .args([server.as_str(), "-q", "-c", &format!("DROP DATABASE IF EXISTS {database}")])
-        .args(["-c", &format!("CREATE DATABASE {database}")])
-        .status()
-        .expect("running psql");
-    assert!(status.success(), "creating {database} on {server}");
-    let (base, _) = server.rsplit_once('/').expect("a URL ending in /DATABASE");
-    Some(format!("{base}/{database}"))
 }
 
 /// Two tagged check runs, a bench run, history, two processes importing at once, and the refusals

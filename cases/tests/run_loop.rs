@@ -19,6 +19,7 @@ const FLAKY: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[],
     run: |_| {
         Ok(if FLAKY_CALLS.fetch_add(1, Ordering::SeqCst) == 0 {
@@ -36,6 +37,7 @@ const BROKEN: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[],
     run: |_| Ok(Outcome::Fail("always".into())),
 };
@@ -65,7 +67,7 @@ fn retries_report_flaky_cases_and_keep_failing_ones_failed() {
         RunOptions { expectations: &expectations, evidence_dir: None, reproduce_command: None, retries: 2, repeats: 1 };
     let runs = [&FLAKY, &BROKEN].map(|case| CaseRun { case, overrides: Default::default() });
     let (mut first, mut second) = (Collect::default(), Collect::default());
-    let report = run(gpu, &runs, &options, &mut [&mut first, &mut second]).unwrap();
+    let report = run(gpu, &runs, runs.len(), &options, &mut [&mut first, &mut second]).unwrap();
 
     let flaky = &report.cases[0];
     assert_eq!((flaky.outcome, flaky.attempts), (ReportedOutcome::Flaky, 2), "{}", flaky.reason);

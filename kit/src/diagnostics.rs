@@ -85,6 +85,40 @@ pub fn probing<T>(probe: impl FnOnce() -> T) -> (T, Vec<String>) {
     (result, raised)
 }
 
+/// How wgpu-hal relays an error of the Vulkan validation layer: at error level, the message
+/// type, then "[MESSAGE-ID (0xNUMBER)]" and the message on the next line.
+const VALIDATION_ERROR: &str = "ERROR wgpu_hal::vulkan::instance: VALIDATION [";
+
+/// The validation layer's errors among `records`: each distinct message once, as
+/// "MESSAGE-ID: message" (its first line, without the objects' handles and the message number
+/// the layer puts first), with its count, in order of first appearance.
+pub fn validation_errors(records: &[String]) -> Vec<(String, usize)> {
+    let mut counted: Vec<(String, usize)> = Vec::new();
+    for record in records {
+        let Some(rest) = record.strip_prefix(VALIDATION_ERROR) else {
+            continue;
+        };
+        let (id, message) = rest.split_once(']').unwrap_or((rest, ""));
+        let id = id.split_once(" (0x").map_or(id, |(name, _)| name).trim();
+        let message = message.trim().lines().next().unwrap_or_default().trim();
+        // "Validation Error: [ ID ] Object 0: handle = 0x…; | MessageID = 0x… | what it says"
+        let said = message.split_once("| MessageID = ").and_then(|(_, rest)| rest.split_once(" | "));
+        let message = said.map_or(message, |(_, said)| said.trim());
+        let text = format!("{id}: {message}");
+        match counted.iter_mut().find(|(seen, _)| *seen == text) {
+            Some((_, count)) => *count += 1,
+            None => counted.push((text, 1)),
+        }
+    }
+    counted
+}
+
+/// Whether a record captured and not yet taken contains `text` (what wgpu warned while an
+/// instance was made, say).
+pub fn logged(text: &str) -> bool {
+    CAPTURED.lock().unwrap_or_else(|e| e.into_inner()).iter().any(|record| record.contains(text))
+}
+
 /// A probe's finding with the GL errors it met appended, as evidence.
 pub fn with_raised(problem: String, raised: &[String]) -> String {
     match raised.is_empty() {
@@ -124,6 +158,28 @@ mod tests {
         let taken = take();
         assert_eq!(gl_api_errors(&taken), ["GL_INVALID_OPERATION in glDrawArraysIndirect (x1)"], "{taken:?}");
         assert!(taken.iter().any(|r| r.contains(PROBED_API_ERROR)));
+    }
+
+    #[test]
+    fn validation_errors_are_counted_by_message_id_and_first_line() {
+        let records = [
+            "ERROR wgpu_hal::vulkan::instance: VALIDATION [UNASSIGNED-CoreValidation-Shader-InconsistentSpirv (0x6bbb14)]\n\tValidation Error: [ UNASSIGNED-CoreValidation-Shader-InconsistentSpirv ] Object 0: handle = 0x56490bc1c5b0, type = VK_OBJECT_TYPE_DEVICE; | MessageID = 0x6bbb14 | SPIR-V module not valid: Invalid source language operand: 10",
+            "WARN wgpu_hal::vulkan::instance: PERFORMANCE [UNASSIGNED-CoreValidation-Shader-OutputNotConsumed (0x609a13b)]\n\tnot consumed",
+            "ERROR wgpu_hal::vulkan::instance: VALIDATION [UNASSIGNED-CoreValidation-Shader-InconsistentSpirv (0x6bbb14)]\n\tValidation Error: [ UNASSIGNED-CoreValidation-Shader-InconsistentSpirv ] Object 0: handle = 0x77aa, type = VK_OBJECT_TYPE_DEVICE; | MessageID = 0x6bbb14 | SPIR-V module not valid: Invalid source language operand: 10",
+            "ERROR wgpu_hal::vulkan::instance: VALIDATION [VUID-vkCmdDraw-None-02699 (0x1)]\n\tdescriptor set 0 is invalid",
+            "ERROR wgpu_hal::gles: GLES: [API/Error] ID 12 : GL_INVALID_OPERATION in glDrawArraysIndirect",
+        ]
+        .map(String::from);
+        assert_eq!(
+            validation_errors(&records),
+            [
+                (
+                    "UNASSIGNED-CoreValidation-Shader-InconsistentSpirv: SPIR-V module not valid: Invalid source language operand: 10".to_owned(),
+                    2
+                ),
+                ("VUID-vkCmdDraw-None-02699: descriptor set 0 is invalid".to_owned(), 1),
+            ]
+        );
     }
 
     #[test]

@@ -21,6 +21,8 @@ pub struct AdapterSelector {
     /// configuration holds its adapter to the context or driver it promises, so a run that got
     /// another (an override the driver ignored) fails instead of testing something else.
     pub driver_info: Option<String>,
+    /// Load the Vulkan validation layer (`--validation`): its errors fail the case they come in.
+    pub validation: bool,
 }
 
 /// What the report says about the adapter `info` describes.
@@ -86,15 +88,39 @@ pub fn parse_backend(name: &str) -> Result<wgpu::Backends> {
     }
 }
 
-/// The kit's instance. wgpu's indirect-call validation is off: it builds a compute pipeline,
-/// which a compute-free adapter (softpipe's GL 3.3) does not have, so with it no device opens.
-/// The kit's only indirect draws are the CPS levels' full-screen triangles, which bind no vertex
-/// buffer, and whose arguments `cps.level_lighting` reads back and holds to their definition.
-fn instance(backends: wgpu::Backends) -> wgpu::Instance {
+/// The kit's instance for `backends`, with flags it sets itself — never the build profile's or
+/// the environment's, so that a debug and a release build run alike whatever is installed:
+/// - GL: the driver's debug output (VALIDATION, DEBUG): the kit's GL verdicts read the API errors
+///   the driver raises (`diagnostics::gl_api_errors`), and nothing outside the driver loads;
+/// - Vulkan (and the others): nothing, or with `validation` the Khronos validation layer and the
+///   debug messenger that relays it (VALIDATION, DEBUG).
+///
+/// wgpu's indirect-call validation is off: it builds a compute pipeline, which a compute-free
+/// adapter (softpipe's GL 3.3) does not have, so with it no device opens. The kit's only indirect
+/// draws are the CPS levels' full-screen triangles, which bind no vertex buffer, and whose
+/// arguments `cps.level_lighting` reads back and holds to their definition.
+fn instance(backends: wgpu::Backends, validation: bool) -> wgpu::Instance {
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
     desc.backends = backends;
-    desc.flags.remove(wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL);
+    let debug = backends == wgpu::Backends::GL || validation;
+    desc.flags =
+        if debug { wgpu::InstanceFlags::VALIDATION | wgpu::InstanceFlags::DEBUG } else { wgpu::InstanceFlags::empty() };
     wgpu::Instance::new(desc)
+}
+
+/// The adapters of `backends`, GL's from an instance of its own (its flags differ), Vulkan's and
+/// the others' first.
+fn enumerate(backends: wgpu::Backends, validation: bool) -> Vec<wgpu::Adapter> {
+    let others = backends - wgpu::Backends::GL;
+    let mut adapters = Vec::new();
+    if !others.is_empty() {
+        adapters.extend(pollster::block_on(instance(others, validation).enumerate_adapters(others)));
+    }
+    if backends.contains(wgpu::Backends::GL) {
+        let gl = wgpu::Backends::GL;
+        adapters.extend(pollster::block_on(instance(gl, validation).enumerate_adapters(gl)));
+    }
+    adapters
 }
 
 impl AdapterSelector {
@@ -113,14 +139,14 @@ impl AdapterSelector {
 /// Every adapter on every backend this build supports.
 pub fn all_adapters() -> Vec<wgpu::Adapter> {
     let backends = wgpu::Backends::VULKAN | wgpu::Backends::GL | wgpu::Backends::METAL | wgpu::Backends::DX12;
-    pollster::block_on(instance(backends).enumerate_adapters(backends))
+    enumerate(backends, false)
 }
 
 /// Picks the adapter a selector names: by name among all adapters of its backends, or wgpu's
 /// preferred one, where Vulkan wins over GL.
 pub fn select_adapter(selector: &AdapterSelector) -> Result<wgpu::Adapter> {
     let backends = selector.backends()?;
-    let candidates = pollster::block_on(instance(backends).enumerate_adapters(backends));
+    let candidates = enumerate(backends, selector.validation);
     if candidates.is_empty() {
         bail!("{NO_ADAPTER_HELP} (backends searched: {backends:?})");
     }
@@ -147,6 +173,12 @@ pub fn select_adapter(selector: &AdapterSelector) -> Result<wgpu::Adapter> {
             bail!("no adapter's driver info matches {pattern:?} (--driver-info); adapters found: {found:?}");
         }
     }
+    if selector.validation && backends.contains(wgpu::Backends::VULKAN) && validation_layer_manifest().is_none() {
+        // wgpu goes on without the layer, saying so only at debug level.
+        bail!(
+            "--validation: no manifest of the Vulkan validation layer ({VALIDATION_LAYER}) in the loader's layer folders; on Debian: apt-get install vulkan-validationlayers"
+        );
+    }
     // Prefer real hardware, then Vulkan over GL: the order wgpu's own default follows.
     matching.sort_by_key(|a| {
         let info = a.get_info();
@@ -155,6 +187,43 @@ pub fn select_adapter(selector: &AdapterSelector) -> Result<wgpu::Adapter> {
         (!hardware, !vulkan)
     });
     Ok(matching.remove(0))
+}
+
+/// The Khronos validation layer, as its manifest names it.
+const VALIDATION_LAYER: &str = "VK_LAYER_KHRONOS_validation";
+
+/// The validation layer's manifest among the folders the Vulkan loader reads explicit layers from
+/// on Linux (`VK_LAYER_PATH` alone where set, else `VK_ADD_LAYER_PATH`, the XDG config and data
+/// folders and /etc), if one is there.
+pub fn validation_layer_manifest() -> Option<std::path::PathBuf> {
+    let folders_of = |variable: &str, default: &str| -> Vec<std::path::PathBuf> {
+        let value = std::env::var(variable).unwrap_or_else(|_| default.to_owned());
+        value.split(':').filter(|f| !f.is_empty()).map(std::path::PathBuf::from).collect()
+    };
+    let explicit = |base: std::path::PathBuf| base.join("vulkan/explicit_layer.d");
+    let folders: Vec<std::path::PathBuf> = match std::env::var("VK_LAYER_PATH") {
+        Ok(paths) => paths.split(':').map(std::path::PathBuf::from).collect(),
+        Err(_) => {
+            let home_data = std::env::var("XDG_DATA_HOME")
+                .map(std::path::PathBuf::from)
+                .or_else(|_| std::env::var("HOME").map(|home| std::path::Path::new(&home).join(".local/share")));
+            folders_of("VK_ADD_LAYER_PATH", "")
+                .into_iter()
+                .chain(folders_of("XDG_CONFIG_DIRS", "/etc/xdg").into_iter().map(explicit))
+                .chain(std::iter::once(explicit("/etc".into())))
+                .chain(home_data.into_iter().map(explicit))
+                .chain(folders_of("XDG_DATA_DIRS", "/usr/local/share:/usr/share").into_iter().map(explicit))
+                .collect()
+        }
+    };
+    folders
+        .into_iter()
+        .flat_map(|folder| std::fs::read_dir(folder).into_iter().flatten().flatten())
+        .map(|entry| entry.path())
+        .find(|path| {
+            path.extension().is_some_and(|e| e == "json")
+                && std::fs::read_to_string(path).is_ok_and(|text| text.contains(VALIDATION_LAYER))
+        })
 }
 
 /// The optional features the kit uses when an adapter offers them; a case that needs a missing

@@ -11,6 +11,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[],
     run,
 };

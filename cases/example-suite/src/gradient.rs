@@ -21,6 +21,7 @@ pub const CASE: Case = Case {
     }],
     sweep: &[],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[],
     run,
 };

@@ -40,6 +40,7 @@ pub const CASE: Case = Case {
         Sweep { param: "lights", range: SweepRange::Count(1, 4096) },
     ],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[FULLSCREEN, DEPTH_BITS, CBR_SCENE, CBR_SHADE_SAMPLES, CBR_TURN_BACK],
     run,
 };

@@ -23,6 +23,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 4,
+    timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE, CBR_SCENE, CBR_SHADE_SAMPLES, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, CBR_RECONSTRUCT],
     run,
 };

@@ -24,6 +24,7 @@ pub const CASE: Case = Case {
     }],
     sweep: &[Sweep { param: "sizes", range: SweepRange::Size { min: (2, 2), max: (400, 300) } }],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[FULLSCREEN, CBR_LAYOUT_VALUES],
     run,
 };

@@ -48,6 +48,7 @@ pub const CASE: Case = Case {
         Sweep { param: "frames", range: SweepRange::Count(2, 8) },
     ],
     budget_s: 15,
+    timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE, CBR_SCENE, CBR_SHADE_SAMPLES, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, CBR_RECONSTRUCT, CBR_UPSCALE],
     run,
 };

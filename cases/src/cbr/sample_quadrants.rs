@@ -21,6 +21,7 @@ pub const CASE: Case = Case {
     }],
     sweep: &[Sweep { param: "sizes", range: SweepRange::Size { min: (2, 2), max: (300, 200) } }],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE, CBR_SAMPLE_ID_RECORD],
     run,
 };

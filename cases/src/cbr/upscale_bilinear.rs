@@ -25,6 +25,7 @@ pub const CASE: Case = Case {
     params: &[ParamSpec { name: "size", kind: ParamKind::SizeFrom(2), default: "96x64", help: "screen size" }],
     sweep: &[Sweep { param: "size", range: SweepRange::Size { min: (2, 2), max: (200, 150) } }],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[FULLSCREEN, CBR_SCENE, CBR_UPSCALE],
     run,
 };

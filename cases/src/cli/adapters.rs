@@ -125,13 +125,19 @@ fn write_doc(doc: &Path, args: &MatrixArgs) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// As many configurations' processes at once as there are cores: each only opens an adapter.
+fn parallelism() -> usize {
+    std::thread::available_parallelism().map_or(1, usize::from)
+}
+
 /// Each configuration's process prints its `Resolved` line into its log; the table shows them.
 fn resolve_matrix(args: &MatrixArgs) -> Result<ExitCode> {
     let matrix = args.load()?;
     let names = args.matrix.clone().unwrap_or_else(|| "all".into());
     let reports = std::env::temp_dir().join(format!("fragkit-adapters-{}", std::process::id()));
-    let runs =
-        run_children(&matrix, &names, &reports, Show::Nothing, |_| vec!["adapters".into(), "--selected".into()])?;
+    let runs = run_children(&matrix, &names, &reports, Show::Nothing, parallelism(), |_| {
+        vec!["adapters".into(), "--selected".into()]
+    })?;
     let mut rows = vec![["configuration", "backend", "environment", "resolves to", "driver info"].map(String::from)];
     for run in &runs {
         let c = run.configuration;

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use fragkit::gpu::AdapterSelector;
 use fragkit::harness::Case;
 use fragkit::harness::child_process::{arguments_without, log_tail};
@@ -14,11 +14,14 @@ use fragkit::harness::params::parse_overrides;
 use fragkit::harness::run::{CaseRun, RunOptions, plan_runs};
 use fragkit::harness::runner::{check_overrides, select};
 use fragkit::harness::supervise::{CaseTimeout, Supervision, run_child, supervise};
+use fragkit_report::AdapterDescription;
 use fragkit_report::expectations::Expectations;
 use fragkit_report::readable::counted;
 use fragkit_report::report::{Report, ReportedOutcome};
 use fragkit_report::run_info::{RunInfo, RunKind};
-use fragkit_report::sink::{JsonSink, Shard, Sink};
+use fragkit_report::sink::{JsonSink, Shard, Sink, partial_path};
+use fragkit_report::skips::SkipList;
+use fragkit_report::summary::run_summary;
 use fragkit_results::baseline::baseline;
 use fragkit_results::database::{Database, DatabaseSink};
 use fragkit_results::github::GithubSink;
@@ -28,6 +31,9 @@ use fragkit_results::snapshot::Snapshot;
 
 use super::matrix::{ChildEnd, MatrixArgs, Show, check_selection_is_free, print_table, run_children};
 use super::table::TableSink;
+
+/// How many of the slowest case runs the end-of-run summary names.
+const SLOWEST_SHOWN: usize = 5;
 
 /// How to run one case of this kit on its own, for reproduce lines.
 const COMMAND: &str = "fragkit check";
@@ -41,8 +47,8 @@ pub struct CheckArgs {
     /// Write the JSON report here.
     #[arg(long)]
     json: Option<PathBuf>,
-    /// Write a JUnit XML report here (fail and unexpected_pass as failures, not_supported and
-    /// known_issue as skipped).
+    /// Write a JUnit XML report here (fail and unexpected_pass as failures; not_supported,
+    /// known_issue, skip and not_run as skipped).
     #[arg(long)]
     junit: Option<PathBuf>,
     /// Write a browsable HTML report of this run into this folder (with --out, its evidence
@@ -104,12 +110,35 @@ pub struct CheckArgs {
     /// recorded as `timeout` (default: each case's own, 10× its budget and at least 30 s).
     #[arg(long, value_name = "SECONDS", value_parser = clap::value_parser!(u64).range(1..))]
     timeout: Option<u64>,
+    /// Run up to N cases at once, each child process handed the next case as it frees up (with
+    /// --matrix: N configurations at once). Cases whose verdict rests on a measured time run
+    /// alone. Verdicts are those of --jobs 1.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256))]
+    jobs: u32,
+    /// A skip list: a case glob a line, optionally scoped with backend=, adapter=, driver=,
+    /// driver_info= globs; `#` comments give the reason (repeatable). Skipped cases are
+    /// recorded `skip` with it.
+    #[arg(long, value_name = "FILE")]
+    skips: Vec<PathBuf>,
+    /// Leave out the cases this glob names, recorded `skip` (repeatable).
+    #[arg(long, value_name = "GLOB")]
+    exclude: Vec<String>,
+    /// Stop after N unexpected failures: the cases not yet started are recorded `not_run`.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    max_fails: Option<u32>,
+    /// Exit 2 before any case runs unless the adapter's name, driver or backend matches one of
+    /// these globs (repeatable, or separated by commas): a runner whose driver failed to load
+    /// must not test another adapter and pass.
+    #[arg(long, value_name = "GLOB", value_delimiter = ',')]
+    expect_adapter: Vec<String>,
+    /// Continue an interrupted run: with --db, the newest interrupted check run there; else the
+    /// report so far beside --json (`<json>.partial`). Give the command line it ran with: the case
+    /// runs it recorded keep their records, the others run, and the run becomes complete.
+    #[arg(long, conflicts_with = "rerun_failed")]
+    resume: bool,
     /// Run as the child of a supervising `check`: stream each record into this file.
     #[arg(long, hide = true)]
     child_stream: Option<PathBuf>,
-    /// As a child: start at this case run of the list.
-    #[arg(long, hide = true, default_value_t = 0)]
-    skip: usize,
     /// With --matrix: hold each configuration's outcomes and metrics (timings left out) to its
     /// snapshot, DIR/<name>.json (the repository's: snapshots/matrix); a departure fails the run.
     #[arg(long, value_name = "DIR", requires = "matrix")]
@@ -144,6 +173,10 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
         expectations.extend(Expectations::load(path)?);
     }
     let rerun = args.rerun_failed.as_deref().map(|path| failed_runs(path, args.flaky_fails)).transpose()?;
+    let skips = skip_list(&args.skips, &args.exclude)?;
+    for glob in &args.expect_adapter {
+        glob::Pattern::new(glob).with_context(|| format!("--expect-adapter {glob:?} is not a glob"))?;
+    }
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir).with_context(|| format!("creating the evidence folder {}", dir.display()))?;
     }
@@ -160,7 +193,8 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
         return run_child_of(selector, &args, stream, &cases, &overrides, shard, rerun.as_deref(), &expectations);
     }
     // Open (and migrate) the database now: a wrong or newer one is refused before the run.
-    let database = args.db.as_deref().map(Database::open).transpose()?;
+    let mut database = args.db.as_deref().map(Database::open).transpose()?;
+    let resumed = args.resume.then(|| interrupted(&args, database.as_mut())).transpose()?;
     let runs = planned_runs(&args, &cases, &overrides, shard, rerun.as_deref());
     if runs.is_empty() {
         println!("nothing to run: the report holds no failures to run again");
@@ -171,10 +205,21 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     }
 
     let mut table = TableSink::new(verbose);
-    let info = RunInfo::now(RunKind::Check, args.tag.clone());
-    let mut json = args.json.as_deref().map(|path| JsonSink { path, shard, run: info.clone() });
+    let info = match &resumed {
+        Some((_, report)) => report.run.clone().unwrap_or_else(|| RunInfo::now(RunKind::Check, args.tag.clone())),
+        None => RunInfo::now(RunKind::Check, args.tag.clone()),
+    };
+    let recorded = resumed.as_ref().map_or(&[][..], |(_, report)| report.cases.as_slice());
+    if let Some((id, report)) = &resumed {
+        let from = id.map_or_else(|| "the report so far".to_owned(), |id| format!("run {id}"));
+        println!("resuming {from}: {} recorded, the rest run", counted(report.cases.len(), "case run", "case runs"));
+    }
+    let mut json = args.json.as_deref().map(|path| JsonSink::new(path, shard, info.clone()));
     let mut junit = args.junit.as_deref().map(|path| JunitSink { path, flaky_fails: args.flaky_fails });
-    let mut database = database.map(|database| DatabaseSink::new(database, info.clone()));
+    let mut database = database.map(|database| match &resumed {
+        Some((Some(id), report)) => DatabaseSink::resuming(database, info.clone(), *id, &report.cases),
+        _ => DatabaseSink::new(database, info.clone()),
+    });
     let mut html = args.html.as_deref().map(|dir| HtmlSink { dir, run: info.clone() });
     let mut github = args.github.then(|| GithubSink::new(args.flaky_fails));
     // The HTML pages last: they are the most likely to fail, and the others are written by then.
@@ -188,14 +233,38 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     let child_arguments = arguments_without(
         std::env::args_os().skip(1),
         &["--json", "--junit", "--html", "--db", "--tag", "--write-baseline"],
-        &["--github"],
+        &["--github", "--resume"],
     );
     let timeout = match args.timeout {
         Some(seconds) => CaseTimeout::Fixed(std::time::Duration::from_secs(seconds)),
         None => CaseTimeout::FromBudget,
     };
-    let supervision =
-        Supervision { arguments: child_arguments, command: COMMAND, expectations: &expectations, timeout, verbose };
+    let accept_adapter = |adapter: &AdapterDescription| {
+        if let Some((_, report)) = &resumed {
+            anyhow::ensure!(
+                report.adapter == *adapter,
+                "the run to resume ran on {} ({}); this one opened {} ({})",
+                report.adapter.name,
+                report.adapter.backend,
+                adapter.name,
+                adapter.backend
+            );
+        }
+        accept_adapter(selector, &args.expect_adapter, adapter)
+    };
+    let supervision = Supervision {
+        arguments: child_arguments,
+        command: COMMAND,
+        expectations: &expectations,
+        timeout,
+        verbose,
+        jobs: args.jobs as usize,
+        skips: &skips,
+        max_fails: args.max_fails.map(|n| n as usize),
+        flaky_fails: args.flaky_fails,
+        accept_adapter: &accept_adapter,
+        recorded,
+    };
     let report = supervise(&runs, &supervision, &mut sinks)?;
     if let Some(DatabaseSink { database, run_id: Some(id), .. }) = &database {
         println!("recorded as run {id} in {}", database.location());
@@ -205,6 +274,10 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
             .with_context(|| format!("writing the baseline {}", path.display()))?;
         println!("baseline of this run's failures: {}", path.display());
     }
+    let against = if args.baseline.is_empty() { "the expectations" } else { "the expectations and the baseline" };
+    for line in run_summary(&report, args.flaky_fails, SLOWEST_SHOWN, against) {
+        println!("{line}");
+    }
     let failures = report.failures(args.flaky_fails);
     println!(
         "{}: {}",
@@ -212,6 +285,71 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
         counted(failures, "unexpected failure", "unexpected failures")
     );
     Ok(if failures == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}
+
+/// The interrupted run `--resume` continues: the newest interrupted check run of --db (with its
+/// id), else the report so far beside --json.
+fn interrupted(args: &CheckArgs, database: Option<&mut Database>) -> Result<(Option<i64>, Report)> {
+    if let Some(database) = database {
+        let (id, report) = database.interrupted_run(None)?;
+        return Ok((Some(id), report));
+    }
+    let Some(json) = &args.json else {
+        bail!(
+            "--resume continues a run recorded with --db, or one whose --json report so far remains: give its --db or --json"
+        );
+    };
+    let partial = partial_path(json);
+    anyhow::ensure!(
+        partial.exists(),
+        "--resume: no report so far at {} (that run finished, or recorded no case before it ended)",
+        partial.display()
+    );
+    Ok((None, Report::read(&partial)?))
+}
+
+/// The skip lists' entries and the `--exclude` globs, in one list.
+fn skip_list(files: &[PathBuf], excluded: &[String]) -> Result<SkipList> {
+    let mut skips = SkipList::default();
+    for path in files {
+        skips.entries.extend(SkipList::load(path)?.entries);
+    }
+    for glob in excluded {
+        skips.entries.push(SkipList::exclude(glob)?);
+    }
+    Ok(skips)
+}
+
+/// Holds the adapter the run opened to `--expect-adapter` (any glob matching its name, driver
+/// or backend), and says on stderr when wgpu chose a backend other than Vulkan by itself (no
+/// Vulkan driver loaded, say).
+fn accept_adapter(selector: &AdapterSelector, expected: &[String], adapter: &AdapterDescription) -> Result<()> {
+    let named = selector.backend.is_some() || std::env::var_os("WGPU_BACKEND").is_some();
+    if !named && adapter.backend != "vulkan" {
+        eprintln!(
+            "note: no backend was named (--backend, WGPU_BACKEND) and wgpu chose {} on {}, not Vulkan",
+            adapter.name, adapter.backend
+        );
+    }
+    if expected.is_empty() {
+        return Ok(());
+    }
+    let options = glob::MatchOptions { case_sensitive: false, ..Default::default() };
+    let matches = |glob: &String| {
+        glob::Pattern::new(glob).is_ok_and(|pattern| {
+            [&adapter.name, &adapter.driver, &adapter.backend].iter().any(|field| pattern.matches_with(field, options))
+        })
+    };
+    anyhow::ensure!(
+        expected.iter().any(matches),
+        "the adapter is not the one expected (--expect-adapter {}): found {} (driver {}, {}, backend {}); no case ran",
+        expected.join(","),
+        adapter.name,
+        adapter.driver,
+        adapter.driver_info,
+        adapter.backend
+    );
+    Ok(())
 }
 
 /// The run's case list: every selected case (a sweep's draws), this shard's share of it.
@@ -248,7 +386,8 @@ fn failed_runs(path: &Path, flaky_fails: bool) -> Result<Vec<CaseRun<'static>>> 
     Ok(runs)
 }
 
-/// The supervised child: runs the case list from `--skip` on one device, streaming each record.
+/// The supervised child: runs the case runs its parent hands it on one device, streaming each
+/// record.
 #[allow(clippy::too_many_arguments)]
 fn run_child_of(
     selector: &AdapterSelector,
@@ -268,7 +407,7 @@ fn run_child_of(
         retries: args.retry,
         repeats: args.repeat,
     };
-    run_child(selector, &runs, args.skip, &options, stream)?;
+    run_child(selector, &runs, &options, stream)?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -309,11 +448,13 @@ fn check_matrix(
         args.json.is_none() && args.junit.is_none(),
         "with --matrix each configuration writes <reports>/<name>.json and <name>.junit.xml; drop --json/--junit"
     );
+    anyhow::ensure!(!args.resume, "--resume takes one configuration's run: resume it without --matrix");
     anyhow::ensure!(
         args.write_baseline.is_none() && args.rerun_failed.is_none(),
         "--write-baseline and --rerun-failed take one configuration's run: give them without --matrix, per configuration"
     );
-    let matrix = args.matrix.load()?;
+    let (matrix, names) = args.matrix.resolve(names)?;
+    let names = names.as_str();
     if let Some(dir) = &args.snapshots {
         std::fs::create_dir_all(dir).with_context(|| format!("creating the snapshot folder {}", dir.display()))?;
     }
@@ -338,10 +479,12 @@ fn check_matrix(
             "--adapter",
             "--driver-info",
             "--snapshots",
+            // The configurations run --jobs at once, each one case at a time.
+            "--jobs",
         ],
         &["--update-snapshots", "--github"],
     );
-    let runs = run_children(&matrix, names, reports, Show::Progress, |configuration| {
+    let runs = run_children(&matrix, names, reports, Show::Progress, args.jobs as usize, |configuration| {
         let stem = configuration.file_stem();
         let mut arguments = inherited.clone();
         arguments.extend(["--json".into(), report_path(&stem).into()]);
@@ -433,11 +576,11 @@ fn check_matrix(
     for line in &details {
         println!("{line}");
     }
-    if let Some(dir) = &args.html {
-        if !columns.is_empty() {
-            let index = write_site(dir, &columns, &[])?;
-            println!("HTML matrix: {}", index.display());
-        }
+    if let Some(dir) = &args.html
+        && !columns.is_empty()
+    {
+        let index = write_site(dir, &columns, &[])?;
+        println!("HTML matrix: {}", index.display());
     }
     println!("reports, JUnit and logs: {}", reports.display());
     Ok(if failed { ExitCode::from(1) } else { ExitCode::SUCCESS })

@@ -71,6 +71,25 @@ impl Matrix {
         Ok(matrix)
     }
 
+    /// One configuration per adapter the instance enumerates here (`--matrix found`), named by
+    /// backend and adapter, held to its driver info, with nothing set in its environment.
+    pub fn found(adapters: &[fragkit_report::AdapterDescription]) -> Self {
+        let configurations = adapters
+            .iter()
+            .map(|adapter| Configuration {
+                name: adapter.slug(),
+                about: format!("{} ({}), found by the instance", adapter.driver, adapter.driver_info),
+                backend: adapter.backend.clone(),
+                adapter: adapter.name.clone(),
+                driver_info: Some(glob::Pattern::escape(&adapter.driver_info)),
+                env: BTreeMap::new(),
+                requires: Vec::new(),
+                installs: "installed".to_owned(),
+            })
+            .collect();
+        Self { configurations }
+    }
+
     pub fn built_in() -> Result<Self> {
         Self::parse(BUILT_IN, "cases/adapters.toml (built in)")
     }
@@ -110,6 +129,27 @@ mod tests {
         let chosen: Vec<&str> = matrix.select("zink, lavapipe").unwrap().iter().map(|c| c.name.as_str()).collect();
         assert_eq!(chosen, ["lavapipe", "zink"]);
         assert!(matrix.select("lavapipe,nope").is_err());
+    }
+
+    #[test]
+    fn found_adapters_become_configurations_named_by_backend_and_adapter() {
+        let adapter = |backend: &str, driver_info: &str| fragkit_report::AdapterDescription {
+            name: "llvmpipe (LLVM 15.0.6, 256 bits)".into(),
+            backend: backend.into(),
+            driver: "llvmpipe".into(),
+            driver_info: driver_info.into(),
+            device_type: "Cpu".into(),
+        };
+        let matrix =
+            Matrix::found(&[adapter("vulkan", "Mesa 22.3.6"), adapter("gl", "4.5 (Core Profile) Mesa [22.3.6]")]);
+        let names: Vec<&str> = matrix.configurations.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(names, ["vulkan_llvmpipe_llvm_15_0_6_256_bits", "gl_llvmpipe_llvm_15_0_6_256_bits"]);
+        let gl = &matrix.configurations[1];
+        assert_eq!((gl.backend.as_str(), gl.adapter.as_str()), ("gl", "llvmpipe (LLVM 15.0.6, 256 bits)"));
+        // The driver info is held literally: its brackets are no glob.
+        let held = glob::Pattern::new(gl.driver_info.as_deref().unwrap()).unwrap();
+        assert!(held.matches("4.5 (Core Profile) Mesa [22.3.6]") && !held.matches("4.5 (Core Profile) Mesa 2"));
+        assert!(gl.absent_because().is_none() && gl.env.is_empty());
     }
 
     #[test]

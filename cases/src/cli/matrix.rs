@@ -4,7 +4,7 @@
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
-use std::process::{Command, ExitStatus, Stdio};
+use std::process::{Child, Command, ExitStatus, Stdio};
 
 use anyhow::{Context, Result, bail};
 use fragkit::harness::child_process::{arguments_without, ending, log_tail};
@@ -13,8 +13,9 @@ use super::configurations::{Configuration, Matrix};
 
 #[derive(clap::Args, Clone, Debug)]
 pub struct MatrixArgs {
-    /// Run over the adapter matrix instead of one adapter: `all`, or configuration names
-    /// separated by commas (`fragkit adapters` lists them), each in a process of its own.
+    /// Run over the adapter matrix instead of one adapter: `all`, configuration names separated
+    /// by commas (`fragkit adapters` lists them), or `found`: every adapter the instance
+    /// enumerates here, named by backend and adapter. Each runs in a process of its own.
     #[arg(long, value_name = "NAMES")]
     pub matrix: Option<String>,
     /// The adapter matrix file (default: the one built in, cases/adapters.toml).
@@ -31,6 +32,18 @@ impl MatrixArgs {
             Some(path) => Matrix::load(path),
             None => Matrix::built_in(),
         }
+    }
+
+    /// The matrix `names` runs over, and the names to select from it: `found` is every adapter
+    /// enumerated here, all of them; anything else names configurations of the matrix file.
+    pub fn resolve(&self, names: &str) -> Result<(Matrix, String)> {
+        if names.trim() != "found" {
+            return Ok((self.load()?, names.to_owned()));
+        }
+        let found: Vec<fragkit_report::AdapterDescription> =
+            fragkit::gpu::all_adapters().iter().map(|adapter| fragkit::gpu::describe(&adapter.get_info())).collect();
+        anyhow::ensure!(!found.is_empty(), "--matrix found: the instance enumerates no adapter here");
+        Ok((Matrix::found(&found), "all".to_owned()))
     }
 }
 
@@ -84,29 +97,60 @@ pub enum Show {
     Logs,
 }
 
-/// Runs this binary once per configuration of `names`: with `arguments(configuration)` after
-/// `--backend B --adapter A`, the variables any configuration sets cleared and this one's set,
-/// stdout and stderr into `<reports>/<name>.log`.
+/// Runs this binary once per configuration of `names`, `jobs` at once: with
+/// `arguments(configuration)` after `--backend B --adapter A`, the variables any configuration
+/// sets cleared and this one's set, stdout and stderr into `<reports>/<name>.log`. The runs come
+/// back in the configurations' order.
 pub fn run_children<'a>(
     matrix: &'a Matrix,
     names: &str,
     reports: &Path,
     show: Show,
+    jobs: usize,
     arguments: impl Fn(&Configuration) -> Vec<OsString>,
 ) -> Result<Vec<ChildRun<'a>>> {
     let configurations = matrix.select(names)?;
     std::fs::create_dir_all(reports).with_context(|| format!("creating the matrix folder {}", reports.display()))?;
     let program = std::env::current_exe().context("finding this program to run each configuration")?;
     let matrix_variables: Vec<&String> = matrix.configurations.iter().flat_map(|c| c.env.keys()).collect();
-    let mut runs = Vec::new();
-    for configuration in configurations {
-        let log = reports.join(format!("{}.log", configuration.file_stem()));
+    let mut ends: Vec<Option<ChildEnd>> = Vec::new();
+    let mut running: Vec<(usize, Child)> = Vec::new();
+    let log_of = |configuration: &Configuration| reports.join(format!("{}.log", configuration.file_stem()));
+    let finished = |index: usize, status: ExitStatus, ends: &mut Vec<Option<ChildEnd>>| {
+        let configuration: &Configuration = configurations[index];
+        if show == Show::Logs {
+            println!(
+                "== {} ({})\n{}",
+                configuration.name,
+                ending(&status),
+                log_tail(&log_of(configuration), usize::MAX)
+            );
+        }
+        ends[index] = Some(ChildEnd::Exited(status));
+    };
+    for (index, configuration) in configurations.iter().enumerate() {
+        let log = log_of(configuration);
         if let Some(why) = configuration.absent_because() {
             if show != Show::Nothing {
                 println!("{}: absent ({why})", configuration.name);
             }
-            runs.push(ChildRun { configuration, end: ChildEnd::Absent(why), log });
+            ends.push(Some(ChildEnd::Absent(why)));
             continue;
+        }
+        ends.push(None);
+        // A free slot first: at most `jobs` configurations run at once.
+        while running.len() >= jobs.max(1) {
+            let mut still = Vec::new();
+            for (at, mut child) in running.drain(..) {
+                match child.try_wait().with_context(|| format!("waiting for {}", configurations[at].name))? {
+                    Some(status) => finished(at, status, &mut ends),
+                    None => still.push((at, child)),
+                }
+            }
+            running = still;
+            if running.len() >= jobs.max(1) {
+                std::thread::sleep(std::time::Duration::from_millis(50));
+            }
         }
         let log_file = std::fs::File::create(&log).with_context(|| format!("creating {}", log.display()))?;
         let mut command = Command::new(&program);
@@ -129,14 +173,23 @@ pub fn run_children<'a>(
         if show != Show::Nothing {
             println!("{}: running ({})", configuration.name, log.display());
         }
-        let status =
-            command.status().with_context(|| format!("starting {} for {}", program.display(), configuration.name))?;
-        if show == Show::Logs {
-            println!("== {} ({})\n{}", configuration.name, ending(&status), log_tail(&log, usize::MAX));
-        }
-        runs.push(ChildRun { configuration, end: ChildEnd::Exited(status), log });
+        let child =
+            command.spawn().with_context(|| format!("starting {} for {}", program.display(), configuration.name))?;
+        running.push((index, child));
     }
-    Ok(runs)
+    for (at, mut child) in running {
+        let status = child.wait().with_context(|| format!("waiting for {}", configurations[at].name))?;
+        finished(at, status, &mut ends);
+    }
+    Ok(configurations
+        .into_iter()
+        .zip(ends)
+        .map(|(configuration, end)| ChildRun {
+            configuration,
+            end: end.unwrap_or_else(|| ChildEnd::Absent("never started".to_owned())),
+            log: log_of(configuration),
+        })
+        .collect())
 }
 
 /// `caps`/`bench --matrix`: each configuration in its own process, one after another (never two
@@ -149,14 +202,16 @@ pub fn run_each_showing_output(
     command: &str,
 ) -> Result<()> {
     check_selection_is_free(selector)?;
-    let matrix = args.load()?;
+    let (matrix, names) = args.resolve(names)?;
+    let names = names.as_str();
     let reports = &args.reports;
     let inherited = arguments_without(
         std::env::args_os().skip(1),
         &["--matrix", "--adapters-file", "--reports", "--json", "--backend", "--adapter", "--driver-info"],
         &[],
     );
-    let runs = run_children(&matrix, names, reports, Show::Logs, |configuration| {
+    // One after another: their timings would share the CPU.
+    let runs = run_children(&matrix, names, reports, Show::Logs, 1, |configuration| {
         let mut arguments = inherited.clone();
         let json = reports.join(format!("{}.{command}.json", configuration.file_stem()));
         arguments.extend(["--json".into(), json.into()]);

@@ -31,6 +31,12 @@ pub struct Cli {
     /// an error, never another adapter.
     #[arg(long, global = true)]
     pub driver_info: Option<String>,
+    /// Load the Vulkan validation layer (Debian: vulkan-validationlayers): an error it reports
+    /// during a case fails that case, unless the expectations list the message. Off by default,
+    /// in every build: timings never depend on what else is installed. (GL's debug output is
+    /// always on: the kit's GL verdicts read the driver's API errors.)
+    #[arg(long, global = true)]
+    pub validation: bool,
     /// Print what wgpu and the driver log (kept in the JSON report otherwise) and every reason
     /// whole.
     #[arg(long, short, global = true)]

@@ -34,6 +34,7 @@ pub const CASE: Case = Case {
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 2,
+    timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, FRAGMENT_STORAGE, INDIRECT_DRAW, GBUFFER, CPS_EDGE_MASK, CPS_LOD, CPS_MASK_REDUCE, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
 };

@@ -18,6 +18,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 97,
+    timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, FRAGMENT_STORAGE, INDIRECT_DRAW, GBUFFER, DEFERRED_LIGHTING, CPS_EDGE_MASK, CPS_LOD, CPS_MASK_REDUCE, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
 };

@@ -26,6 +26,7 @@ pub const CASE: Case = Case {
     ],
     sweep: &[],
     budget_s: 13,
+    timed_verdict: true,
     shaders: &[RECT, FULLSCREEN, HEAVY_SHADING, FRAGMENT_STORAGE, INDIRECT_DRAW, GBUFFER, CPS_LOD, CPS_MASK_REDUCE, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
 };

@@ -27,6 +27,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 3,
+    timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, FRAGMENT_STORAGE, INDIRECT_DRAW, GBUFFER, CPS_LOD, CPS_MASK_REDUCE, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
 };

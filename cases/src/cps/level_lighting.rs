@@ -33,6 +33,7 @@ pub const CASE: Case = Case {
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, FRAGMENT_STORAGE, INDIRECT_DRAW, GBUFFER, CPS_LOD, CPS_MASK_REDUCE, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
 };

@@ -17,6 +17,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[CBR_SCENE],
     run,
 };

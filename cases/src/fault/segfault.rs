@@ -12,6 +12,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[],
     run,
 };

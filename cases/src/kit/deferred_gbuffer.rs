@@ -38,6 +38,7 @@ pub const CASE: Case = Case {
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[GBUFFER],
     run,
 };

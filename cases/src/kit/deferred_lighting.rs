@@ -29,6 +29,7 @@ pub const CASE: Case = Case {
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[FULLSCREEN, GBUFFER, DEFERRED_LIGHTING],
     run,
 };

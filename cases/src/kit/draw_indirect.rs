@@ -15,6 +15,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, INDIRECT_DRAW],
     run,
 };

@@ -36,6 +36,7 @@ pub const CASE: Case = Case {
     ],
     sweep: &[],
     budget_s: 8,
+    timed_verdict: true,
     shaders: &[RECT, FULLSCREEN, HEAVY_SHADING, FRAGMENT_COUNTER, FRAGMENT_STORAGE],
     run,
 };

@@ -28,6 +28,7 @@ macro_rules! sample_positions_case {
             params: &[],
             sweep: &[],
             budget_s: 1,
+            timed_verdict: false,
             shaders: &[RECT, FULLSCREEN, SAMPLE_POSITION, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE],
             run: |ctx| sample_positions(ctx, $samples),
         };
@@ -87,11 +88,10 @@ fn sample_positions(ctx: &mut Ctx, samples: u32) -> Result<Outcome> {
     if !advertised.contains(&samples) {
         return Ok(Outcome::NotSupported(format!("{samples}x multisampling (adapter offers {advertised:?})")));
     }
-    if samples > 1 {
-        if let Some(problem) = render_problem(ctx.gpu, samples)? {
+    if samples > 1
+        && let Some(problem) = render_problem(ctx.gpu, samples)? {
             return Ok(Outcome::Fail(problem));
         }
-    }
     let standard = standard_positions(samples).context("no standard table for this count")?;
 
     // Measure: the sweep through every independent route this adapter allows.

@@ -14,6 +14,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[SLOPED_EDGE],
     run,
 };

@@ -39,6 +39,7 @@ pub const CASE: Case = Case {
         Sweep { param: "frames", range: SweepRange::Count(1, 32) },
     ],
     budget_s: 8,
+    timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, ALPHA_RAMP, FRAGMENT_STORAGE, OIT_QUAD, OIT_NOISE_STEP, OIT_STOCHASTIC, OIT_SAMPLE_MASK],
     run,
 };

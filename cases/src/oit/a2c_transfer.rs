@@ -23,6 +23,7 @@ pub const CASE: Case = Case {
     params: &[],
     sweep: &[],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, ALPHA_RAMP, FRAGMENT_STORAGE, OIT_QUAD, OIT_PLAIN_COVERAGE],
     run,
 };

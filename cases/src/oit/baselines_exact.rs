@@ -39,6 +39,7 @@ pub const CASE: Case = Case {
         Sweep { param: "seed", range: SweepRange::Count(0, 1 << 20) },
     ],
     budget_s: 1,
+    timed_verdict: false,
     shaders: &[FULLSCREEN, OIT_QUAD, OIT_PLAIN_COVERAGE, OIT_SORTED_BLEND, OIT_PEEL, OIT_UNDER],
     run,
 };

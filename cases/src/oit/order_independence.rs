@@ -20,6 +20,7 @@ pub const CASE: Case = Case {
     params: &[ParamSpec { name: "size", kind: ParamKind::Size, default: "48x48", help: "target size" }],
     sweep: &[Sweep { param: "size", range: SweepRange::Size { min: (4, 4), max: (128, 128) } }],
     budget_s: 3,
+    timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, ALPHA_RAMP, FRAGMENT_STORAGE, OIT_QUAD, OIT_NOISE_STEP, OIT_STOCHASTIC, OIT_SAMPLE_MASK],
     run,
 };

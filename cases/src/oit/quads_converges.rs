@@ -30,6 +30,7 @@ pub const CASE: Case = Case {
     params: &[ParamSpec { name: "size", kind: ParamKind::Size, default: "64x64", help: "target size" }],
     sweep: &[Sweep { param: "size", range: SweepRange::Size { min: (8, 8), max: (128, 128) } }],
     budget_s: 4,
+    timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, ALPHA_RAMP, FRAGMENT_STORAGE, OIT_QUAD, OIT_NOISE_STEP, OIT_STOCHASTIC, OIT_SAMPLE_MASK, OIT_TEMPORAL, OIT_BILATERAL],
     run,
 };

@@ -18,6 +18,7 @@ pub const CASE: Case = Case {
     params: PARAMS,
     sweep: &[],
     budget_s: 11,
+    timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE, CBR_SCENE, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, CBR_RECONSTRUCT],
     run,
 };

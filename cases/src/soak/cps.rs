@@ -22,6 +22,7 @@ pub const CASE: Case = Case {
     params: PARAMS,
     sweep: &[],
     budget_s: 44,
+    timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, GBUFFER, CPS_LOD, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
 };

@@ -23,6 +23,7 @@ pub const CASE: Case = Case {
     params: PARAMS,
     sweep: &[],
     budget_s: 34,
+    timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, ALPHA_RAMP, OIT_QUAD, OIT_NOISE_STEP, OIT_STOCHASTIC, OIT_SAMPLE_MASK, OIT_TEMPORAL, OIT_BILATERAL],
     run,
 };

@@ -26,6 +26,7 @@ pub const CASE: Case = Case {
     }],
     sweep: &[Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (4096, 4097) } }],
     budget_s: 2,
+    timed_verdict: false,
     shaders: &[FULLSCREEN, TEXARRAY_FETCH],
     run,
 };

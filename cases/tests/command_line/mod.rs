@@ -27,3 +27,27 @@ pub fn copy_tree(from: &Path, to: &Path) {
         }
     }
 }
+
+/// A fresh, empty PostgreSQL database named `name` on the server `.ci/run` starts (its URL in
+/// FRAGKIT_TEST_POSTGRES, from `bash .ci/postgres`). Without one the PostgreSQL tests are skipped
+/// with a note, except under CI, where they must run.
+pub fn fresh_postgres_database(name: &str) -> Option<String> {
+    let Ok(server) = std::env::var("FRAGKIT_TEST_POSTGRES") else {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI must test the PostgreSQL backend: run `export FRAGKIT_TEST_POSTGRES=$(bash .ci/postgres)` first"
+        );
+        eprintln!("note: FRAGKIT_TEST_POSTGRES is unset (see .ci/postgres): PostgreSQL test skipped");
+        return None;
+    };
+    let database = format!("fragkit_test_{name}");
+    let status = Command::new("psql")
+        .env("PGOPTIONS", "-c client_min_messages=warning")
+        .args([server.as_str(), "-q", "-c", &format!("DROP DATABASE IF EXISTS {database}")])
+        .args(["-c", &format!("CREATE DATABASE {database}")])
+        .status()
+        .expect("running psql");
+    assert!(status.success(), "creating {database} on {server}");
+    let (base, _) = server.rsplit_once('/').expect("a URL ending in /DATABASE");
+    Some(format!("{base}/{database}"))
+}

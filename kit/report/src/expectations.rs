@@ -84,15 +84,36 @@ impl CaseGlobs {
     }
 }
 
+/// A message of the Vulkan validation layer (`check --validation`) that is not the kit's fault:
+/// a case that raises only listed messages keeps its verdict (the messages stay in its
+/// diagnostics); any other message fails it.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KnownValidationMessage {
+    /// Glob over the message as the kit names it: "MESSAGE-ID: first line of the message".
+    pub message: String,
+    /// Globs over the adapter's description; an absent field matches anything.
+    pub backend: Option<String>,
+    pub adapter: Option<String>,
+    pub driver: Option<String>,
+    pub driver_info: Option<String>,
+    /// Whose fault it is: the driver, wgpu-hal, naga, or the validation layer itself.
+    pub layer: String,
+    /// Why, with the evidence.
+    pub reason: String,
+}
+
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Expectations {
     #[serde(default, rename = "known_issue")]
     pub known_issues: Vec<KnownIssue>,
+    #[serde(default, rename = "known_validation_message")]
+    pub known_validation_messages: Vec<KnownValidationMessage>,
 }
 
 /// Patterns were checked by [`Expectations::parse`]; one that still fails to parse matches nothing.
-fn glob_matches(pattern: &str, text: &str) -> bool {
+pub(crate) fn glob_matches(pattern: &str, text: &str) -> bool {
     // Every option named: glob's defaults are not this file's contract.
     let options =
         MatchOptions { case_sensitive: false, require_literal_separator: false, require_literal_leading_dot: false };
@@ -117,12 +138,40 @@ impl Expectations {
                 })?;
             }
         }
+        for known in &parsed.known_validation_messages {
+            let patterns = [&known.backend, &known.adapter, &known.driver, &known.driver_info];
+            for pattern in std::iter::once(&known.message).chain(patterns.into_iter().flatten()) {
+                Pattern::new(pattern).with_context(|| {
+                    format!(
+                        "expectations file {origin}: bad pattern {pattern:?} in the validation message {:?}",
+                        known.message
+                    )
+                })?;
+            }
+        }
         Ok(parsed)
     }
 
     /// These entries and `other`'s (a baseline beside the known issues).
     pub fn extend(&mut self, other: Self) {
         self.known_issues.extend(other.known_issues);
+        self.known_validation_messages.extend(other.known_validation_messages);
+    }
+
+    /// The entry that lists a validation message ("MESSAGE-ID: message") on this adapter.
+    pub fn known_validation_message(
+        &self,
+        message: &str,
+        adapter: &AdapterDescription,
+    ) -> Option<&KnownValidationMessage> {
+        self.known_validation_messages.iter().find(|known| {
+            let field = |pattern: &Option<String>, text: &str| pattern.as_deref().is_none_or(|p| glob_matches(p, text));
+            glob_matches(&known.message, message)
+                && field(&known.backend, &adapter.backend)
+                && field(&known.adapter, &adapter.name)
+                && field(&known.driver, &adapter.driver)
+                && field(&known.driver_info, &adapter.driver_info)
+        })
     }
 
     pub fn load(path: &Path) -> Result<Self> {
@@ -281,5 +330,27 @@ mod tests {
         assert_eq!(loaded.find("kit.scissor.msaa", &lavapipe()).len(), 1);
         let missing = Expectations::load(&path).unwrap_err();
         assert!(format!("{missing:#}").contains(&path.display().to_string()), "{missing:#}");
+    }
+
+    #[test]
+    fn a_validation_message_is_known_on_the_adapters_its_entry_names() {
+        let text = r#"
+            [[known_validation_message]]
+            message = "UNASSIGNED-CoreValidation-Shader-InconsistentSpirv: *source language operand: 10"
+            driver_info = "Mesa 22.3*"
+            layer = "vulkan-validationlayers 1.3.239"
+            reason = "its SPIRV-Tools predate SourceLanguage WGSL"
+        "#;
+        let mut expectations = Expectations::default();
+        expectations.extend(Expectations::parse(text, "test").unwrap());
+        let message = "UNASSIGNED-CoreValidation-Shader-InconsistentSpirv: Invalid source language operand: 10";
+        let known = expectations.known_validation_message(message, &lavapipe()).unwrap();
+        assert_eq!(known.layer, "vulkan-validationlayers 1.3.239");
+        let newer = AdapterDescription { driver_info: "Mesa 24.0".into(), ..lavapipe() };
+        assert!(expectations.known_validation_message(message, &newer).is_none());
+        assert!(expectations.known_validation_message("VUID-vkCmdDraw-None-02699: x", &lavapipe()).is_none());
+        let bad = text.replace("Mesa 22.3*", "[");
+        let error = format!("{:#}", Expectations::parse(&bad, "test").unwrap_err());
+        assert!(error.contains("bad pattern \"[\" in the validation message"), "{error}");
     }
 }

@@ -12,6 +12,8 @@ pub mod readable;
 pub mod report;
 pub mod run_info;
 pub mod sink;
+pub mod skips;
+pub mod summary;
 
 pub use adapter::AdapterDescription;
 pub use report::{CaseRecord, Report, ReportedOutcome};

@@ -30,6 +30,10 @@ pub enum ReportedOutcome {
     Crash,
     /// The case ran past its time limit and its process was killed.
     Timeout,
+    /// Left out by a skip list (`--skips`, `--exclude`): the reason names the entry.
+    Skip,
+    /// Not run: the run stopped first (`--max-fails`).
+    NotRun,
 }
 
 impl ReportedOutcome {
@@ -49,6 +53,8 @@ impl ReportedOutcome {
             Self::Flaky => "FLAKY",
             Self::Crash => "CRASH",
             Self::Timeout => "TIMEOUT",
+            Self::Skip => "skip",
+            Self::NotRun => "not_run",
         }
     }
 }
@@ -409,16 +415,31 @@ mod tests {
 
     #[test]
     fn failures_count_the_failing_outcomes_and_flaky_ones_when_asked() {
-        use ReportedOutcome::{Crash, Fail, Flaky, KnownIssue, NotSupported, Pass, Timeout, UnexpectedPass};
-        let all = [Pass, Fail, NotSupported, KnownIssue, UnexpectedPass, Flaky, Crash, Timeout];
+        use ReportedOutcome::{
+            Crash, Fail, Flaky, KnownIssue, NotRun, NotSupported, Pass, Skip, Timeout, UnexpectedPass,
+        };
+        let all = [Pass, Fail, NotSupported, KnownIssue, UnexpectedPass, Flaky, Crash, Timeout, Skip, NotRun];
         let run = report(&all.map(|outcome| ("kit.a", None, outcome)));
         assert_eq!(run.failures(false), 4);
         assert_eq!(run.failures(true), 5);
         let labels = all.map(ReportedOutcome::label);
         assert_eq!(
             labels,
-            ["pass", "FAIL", "not_supported", "known_issue", "UNEXPECTED_PASS", "FLAKY", "CRASH", "TIMEOUT"]
+            [
+                "pass",
+                "FAIL",
+                "not_supported",
+                "known_issue",
+                "UNEXPECTED_PASS",
+                "FLAKY",
+                "CRASH",
+                "TIMEOUT",
+                "skip",
+                "not_run"
+            ]
         );
+        let names = all.map(|outcome| serde_json::to_value(outcome).unwrap());
+        assert_eq!(names[8..], ["skip", "not_run"], "as the JSON report, database and HTML name them");
     }
 
     #[test]

@@ -1,9 +1,10 @@
 //! Where a run's records go (`Sink`: the table, the JSON report, JUnit, the results database…),
 //! and which share of a run one shard machine takes.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 
 use crate::adapter::AdapterDescription;
 use crate::report::{CaseRecord, Report};
@@ -48,27 +49,84 @@ pub trait Sink {
     fn record(&mut self, _record: &CaseRecord) -> Result<()> {
         Ok(())
     }
+    /// The next case waits (`true`) for a case elsewhere that runs alone, or for the others to
+    /// end where it runs alone itself, until it starts (`false`): a supervisor stops that
+    /// case's clock meanwhile.
+    fn waiting(&mut self, _waiting: bool) -> Result<()> {
+        Ok(())
+    }
     fn finish(&mut self, report: &Report) -> Result<()>;
 }
 
-/// Writes the JSON report when the run finishes (atomically).
+/// Writes the JSON report when the run finishes (atomically). While it runs, the report so far
+/// stands beside it as `<path>.partial` (rewritten at most every [`PARTIAL_EVERY`]): what
+/// `check --resume` continues from when the run is killed. Finishing removes it.
 pub struct JsonSink<'a> {
-    pub path: &'a Path,
+    path: &'a Path,
     /// The run's shard, written into the report for `merge`.
-    pub shard: Option<Shard>,
+    shard: Option<Shard>,
     /// The run's kind, time and commit, written into the report for `import`.
-    pub run: RunInfo,
+    run: RunInfo,
+    /// The report so far, and when it was last written.
+    partial: Report,
+    written: Option<Instant>,
+}
+
+/// How often at most the report so far is rewritten: a killed run loses no more than the case
+/// runs of this long, and a long sweep does not rewrite a growing file at every record.
+pub const PARTIAL_EVERY: Duration = Duration::from_secs(2);
+
+/// Where the report so far of a run writing `path` stands.
+pub fn partial_path(path: &Path) -> PathBuf {
+    let mut partial = path.as_os_str().to_owned();
+    partial.push(".partial");
+    PathBuf::from(partial)
+}
+
+impl<'a> JsonSink<'a> {
+    pub fn new(path: &'a Path, shard: Option<Shard>, run: RunInfo) -> Self {
+        let partial = Report {
+            adapter: AdapterDescription::default(),
+            cases: Vec::new(),
+            diagnostics: Vec::new(),
+            shard,
+            run: Some(run.clone()),
+        };
+        Self { path, shard, run, partial, written: None }
+    }
 }
 
 impl Sink for JsonSink<'_> {
+    fn start(&mut self, adapter: &AdapterDescription, _runs: usize) -> Result<()> {
+        self.partial.adapter = adapter.clone();
+        Ok(())
+    }
+
+    fn record(&mut self, record: &CaseRecord) -> Result<()> {
+        self.partial.cases.push(record.clone());
+        if self.written.is_none_or(|at| at.elapsed() >= PARTIAL_EVERY) {
+            self.partial.write_atomically(&partial_path(self.path))?;
+            self.written = Some(Instant::now());
+        }
+        Ok(())
+    }
+
     fn finish(&mut self, report: &Report) -> Result<()> {
-        Report { shard: self.shard, run: Some(self.run.clone()), ..report.clone() }.write_atomically(self.path)
+        Report { shard: self.shard, run: Some(self.run.clone()), ..report.clone() }.write_atomically(self.path)?;
+        let partial = partial_path(self.path);
+        match std::fs::remove_file(&partial) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                Err(e).with_context(|| format!("removing {}", partial.display()))
+            }
+            _ => Ok(()),
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::report::ReportedOutcome;
 
     #[test]
     fn a_shard_takes_every_nth_run_from_its_own() {
@@ -88,11 +146,24 @@ mod tests {
             shard: None,
             run: None,
         };
-        JsonSink { path: &path, shard: Some(shard), run: run.clone() }.finish(&report).unwrap();
+        let mut sink = JsonSink::new(&path, Some(shard), run.clone());
+        let adapter = AdapterDescription { name: "gpu".into(), ..AdapterDescription::default() };
+        sink.start(&adapter, 2).unwrap();
+        // The first record is written at once beside the report, the next within PARTIAL_EVERY.
+        sink.record(&CaseRecord::unmeasured("kit.a", ReportedOutcome::Pass, "")).unwrap();
+        sink.record(&CaseRecord::unmeasured("kit.b", ReportedOutcome::Pass, "")).unwrap();
+        let partial = Report::read(&partial_path(&path)).unwrap();
+        let names: Vec<&str> = partial.cases.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!((partial.adapter.name.as_str(), names.as_slice()), ("gpu", &["kit.a"][..]));
+        assert_eq!((partial.shard, partial.run.as_ref()), (Some(shard), Some(&run)));
+        assert!(!path.exists(), "the report is written when the run finishes");
+        sink.finish(&report).unwrap();
         let written = Report::read(&path).unwrap();
         std::fs::remove_file(&path).ok();
         assert_eq!(written.shard, Some(shard));
         assert_eq!(written.run, Some(run));
+        assert!(!partial_path(&path).exists(), "the partial report is gone once the run finished");
+        assert_eq!(partial_path(Path::new("r.json")), Path::new("r.json.partial"));
     }
 
     #[test]

@@ -49,7 +49,7 @@ table { border-collapse: collapse; margin: 0.5em 0 1.5em; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.5em; text-align: left; vertical-align: top; }
 th { background: #f3f3f3; }
 td.pass { background: #d9f2d9; } td.fail, td.unexpected_pass { background: #f7c6c6; font-weight: bold; }
-td.not_supported { background: #eee; color: #666; } td.known_issue { background: #fbe8c0; }
+td.not_supported, td.skip, td.not_run { background: #eee; color: #666; } td.known_issue { background: #fbe8c0; }
 td.flaky { background: #f3d1f3; font-weight: bold; } td.absent { color: #aaa; }
 td.regressed { outline: 3px solid #b00; outline-offset: -3px; } .incomplete { color: #b00; font-weight: bold; }
 .evidence figcaption { display: flex; } .evidence figcaption span { flex: 1; text-align: center; }

@@ -86,7 +86,10 @@ pub fn to_junit(report: &Report, flaky_fails: bool) -> String {
                 case.outcome.label(),
                 escape(&case.reason)
             )),
-            ReportedOutcome::NotSupported | ReportedOutcome::KnownIssue => {
+            ReportedOutcome::NotSupported
+            | ReportedOutcome::KnownIssue
+            | ReportedOutcome::Skip
+            | ReportedOutcome::NotRun => {
                 Some(format!("      <skipped message=\"{}: {}\"/>\n", case.outcome.label(), escape(first_line)))
             }
         };

@@ -36,6 +36,9 @@ pub struct Case {
     /// matrix (rounded up from its measured wall time, device opening excluded): what its
     /// timeout in a supervised run follows from.
     pub budget_s: u32,
+    /// Its verdict rests on a measured time (a ratio of GPU times): it runs with nothing beside
+    /// it, in this run (`check --jobs`) or any other fragkit run on the machine (`case_lock`).
+    pub timed_verdict: bool,
     /// The shader files its pipelines are built from, from the kit's shader table (with the
     /// module that builds each): one hop from the case to its shaders and technique. A case
     /// whose run builds a file it does not list fails its test (cases/tests/cases.rs).
@@ -54,6 +57,7 @@ impl Case {
             params: &[],
             sweep: &[],
             budget_s: 1,
+            timed_verdict: false,
             shaders: &[],
             run: |_| Ok(Outcome::Pass),
         }

@@ -1,11 +1,12 @@
 //! The case harness: cases with parameters and requirements, the runner that runs each case
 //! (`runner`), the run loop that feeds every record to its sinks (`run`), and the supervisor
 //! that runs a case list in child processes so that a crash or a hang costs one case
-//! (`supervise`). What a run yields — records, outcomes, sinks, known issues — is the report
-//! model, `fragkit_report`.
+//! (`supervise`), several at once with the timed cases alone (`case_lock`). What a run yields —
+//! records, outcomes, sinks, known issues — is the report model, `fragkit_report`.
 
 pub mod capability;
 pub mod case;
+pub mod case_lock;
 pub mod child_process;
 pub mod params;
 pub mod registry;

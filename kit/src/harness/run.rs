@@ -9,6 +9,7 @@ use std::path::Path;
 use anyhow::Result;
 
 use super::case::Case;
+use super::case_lock;
 use super::runner::run_case;
 use super::sweep;
 use crate::diagnostics;
@@ -135,10 +136,18 @@ fn with_reproduce_line(mut record: CaseRecord, command: Option<&str>, run: &Case
     record
 }
 
-/// Runs `runs` on `gpu`, handing every record to `sinks`; returns the report.
-pub fn run(mut gpu: Gpu, runs: &[CaseRun], options: &RunOptions, sinks: &mut [&mut dyn Sink]) -> Result<Report> {
+/// Runs `runs` (`count` of them: a supervised child takes them one by one as its parent hands
+/// them out) on `gpu`, each under the case lock (`case_lock`), handing every record to `sinks`;
+/// returns the report.
+pub fn run<'r, 'c: 'r>(
+    mut gpu: Gpu,
+    runs: impl IntoIterator<Item = &'r CaseRun<'c>>,
+    count: usize,
+    options: &RunOptions,
+    sinks: &mut [&mut dyn Sink],
+) -> Result<Report> {
     for sink in sinks.iter_mut() {
-        sink.start(&gpu.description, runs.len())?;
+        sink.start(&gpu.description, count)?;
     }
     // What opening the device logged (EGL probing a missing DRI driver, say) belongs to the run.
     let mut report = Report {
@@ -149,12 +158,15 @@ pub fn run(mut gpu: Gpu, runs: &[CaseRun], options: &RunOptions, sinks: &mut [&m
         run: None,
     };
     for run in runs {
+        let lock =
+            case_lock::lock_for(run.case, |waiting| sinks.iter_mut().try_for_each(|sink| sink.waiting(waiting)))?;
         let run_once = || run_case(&gpu, run.case, &run.overrides, options.expectations, options.evidence_dir);
         // Again, while the device is not lost.
         let again = || gpu.lost().is_none().then(run_once);
         let record = retried(run_once(), options.retries, again);
         let record = repeated(record, options.repeats, again);
         let record = with_reproduce_line(record, options.reproduce_command, run);
+        drop(lock);
         for sink in sinks.iter_mut() {
             sink.record(&record)?;
         }

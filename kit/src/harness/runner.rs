@@ -153,7 +153,14 @@ pub fn run_case(
     // Errors the GL driver raised during the case are part of its verdict: a draw GL refused
     // fails the case by name, not only by the pixels it left.
     let diagnostics = diagnostics::take();
-    let outcome = with_gl_errors(outcome, &diagnostics::gl_api_errors(&diagnostics));
+    let outcome = with_errors(outcome, "the driver raised GL errors", &diagnostics::gl_api_errors(&diagnostics));
+    // So are the validation layer's (`--validation`), less the messages the expectations list.
+    let unlisted: Vec<String> = diagnostics::validation_errors(&diagnostics)
+        .into_iter()
+        .filter(|(message, _)| expectations.known_validation_message(message, &gpu.description).is_none())
+        .map(|(message, count)| format!("{message} (x{count})"))
+        .collect();
+    let outcome = with_errors(outcome, "the validation layer reported", &unlisted);
     let (outcome, reason) = judged(outcome, case.name, &gpu.description, expectations, !overrides.is_empty());
     CaseRecord {
         name: case.name.to_owned(),
@@ -218,14 +225,14 @@ fn judged(
     }
 }
 
-/// The outcome once the GL errors the case raised are counted: a pass or a failure becomes a
-/// failure that names them (one more problem, joined by "; "); not_supported stays, since its
-/// probe's refused attempt may raise them.
-fn with_gl_errors(outcome: Outcome, errors: &[String]) -> Outcome {
+/// The outcome once the errors the case raised (GL's, the validation layer's: `what`) are
+/// counted: a pass or a failure becomes a failure that names them (one more problem, joined by
+/// "; "); not_supported stays, since its probe's refused attempt may raise them.
+fn with_errors(outcome: Outcome, what: &str, errors: &[String]) -> Outcome {
     if errors.is_empty() {
         return outcome;
     }
-    let raised = format!("the driver raised GL errors: {}", errors.join(", "));
+    let raised = format!("{what}: {}", errors.join(", "));
     match outcome {
         Outcome::Pass => Outcome::Fail(raised),
         Outcome::Fail(why) => Outcome::Fail(format!("{why}; {raised}")),
@@ -240,16 +247,17 @@ mod tests {
     #[test]
     fn gl_errors_fail_a_passing_or_failing_case_by_name() {
         let errors = ["GL_INVALID_OPERATION in glDrawArraysIndirect (x2)".to_owned()];
+        const GL: &str = "the driver raised GL errors";
         let raised = "the driver raised GL errors: GL_INVALID_OPERATION in glDrawArraysIndirect (x2)";
-        assert_eq!(with_gl_errors(Outcome::Pass, &errors), Outcome::Fail(raised.into()));
+        assert_eq!(with_errors(Outcome::Pass, GL, &errors), Outcome::Fail(raised.into()));
         assert_eq!(
-            with_gl_errors(Outcome::Fail("6144 pixels differ".into()), &errors),
+            with_errors(Outcome::Fail("6144 pixels differ".into()), GL, &errors),
             Outcome::Fail(format!("6144 pixels differ; {raised}"))
         );
         // A refused attempt (the probe of a missing capability) may raise them.
         let missing = Outcome::NotSupported("INDIRECT_EXECUTION".into());
-        assert_eq!(with_gl_errors(missing.clone(), &errors), missing);
-        assert_eq!(with_gl_errors(Outcome::Pass, &[]), Outcome::Pass);
+        assert_eq!(with_errors(missing.clone(), GL, &errors), missing);
+        assert_eq!(with_errors(Outcome::Pass, GL, &[]), Outcome::Pass);
     }
 
     #[test]

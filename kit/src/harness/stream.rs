@@ -22,6 +22,8 @@ pub enum StreamLine {
     Start { adapter: AdapterDescription, runs: usize },
     /// One case run finished.
     Record(Box<CaseRecord>),
+    /// The next case run waits for the case lock (`true`: its clock stops) or has started.
+    Waiting(bool),
     /// The child ran every case; what wgpu and the driver logged outside the cases.
     Finished { diagnostics: Vec<String> },
 }
@@ -56,6 +58,10 @@ impl Sink for StreamSink {
 
     fn record(&mut self, record: &CaseRecord) -> Result<()> {
         self.write(&StreamLine::Record(Box::new(record.clone())))
+    }
+
+    fn waiting(&mut self, waiting: bool) -> Result<()> {
+        self.write(&StreamLine::Waiting(waiting))
     }
 
     fn finish(&mut self, report: &Report) -> Result<()> {
@@ -113,6 +119,7 @@ mod tests {
         let mut sink = StreamSink::create(&path).unwrap();
         sink.start(&adapter, 2).unwrap();
         sink.record(&record).unwrap();
+        sink.waiting(true).unwrap();
         let report = Report {
             adapter: adapter.clone(),
             cases: vec![record],
@@ -127,6 +134,7 @@ mod tests {
             [
                 StreamLine::Start { adapter: a, runs: 2 },
                 StreamLine::Record(r),
+                StreamLine::Waiting(true),
                 StreamLine::Finished { diagnostics },
             ] => {
                 assert_eq!(

@@ -5,7 +5,7 @@
 //!
 //! ```text
 //! SUITE [PATTERN…] [--json FILE] [--set KEY=VALUE]… [--backend NAME] [--adapter NAME]
-//!       [--timeout SECONDS] [--list] [-v]
+//!       [--timeout SECONDS] [--jobs N] [--list] [-v]
 //! ```
 //! Exit status: 0 when no case failed unexpectedly, 1 when one did, 2 for bad input or a device
 //! that could not be opened.
@@ -22,13 +22,14 @@ use fragkit_report::readable::counted;
 use fragkit_report::report::{CaseRecord, Report};
 use fragkit_report::run_info::{RunInfo, RunKind};
 use fragkit_report::sink::{JsonSink, Sink};
+use fragkit_report::skips::SkipList;
 
 use super::case::Case;
 use super::child_process::arguments_without;
 use super::params::parse_overrides;
 use super::run::{RunOptions, plan_runs};
 use super::runner::{check_overrides, select};
-use super::supervise::{CHILD_SKIP, CHILD_STREAM, CaseTimeout, Supervision, run_child, supervise};
+use super::supervise::{CHILD_STREAM, CaseTimeout, Supervision, run_child, supervise};
 use crate::gpu::AdapterSelector;
 
 /// A list of cases with its known issues, run from its own program's command line.
@@ -50,11 +51,11 @@ struct Arguments {
     json: Option<PathBuf>,
     selector: AdapterSelector,
     timeout: Option<Duration>,
+    jobs: Option<usize>,
     list: bool,
     verbose: bool,
-    /// As a supervised child: the record stream, and the case run to start at.
+    /// As a supervised child: the record stream.
     child_stream: Option<PathBuf>,
-    skip: usize,
 }
 
 impl Arguments {
@@ -79,13 +80,18 @@ impl Arguments {
                         })?;
                     parsed.timeout = Some(Duration::from_secs(seconds));
                 }
+                "--jobs" => {
+                    let text = value("--jobs")?;
+                    let jobs: usize = text
+                        .parse()
+                        .ok()
+                        .filter(|&n| n > 0)
+                        .with_context(|| format!("--jobs {text:?}: expected a whole number of children above 0"))?;
+                    parsed.jobs = Some(jobs);
+                }
                 "--list" => parsed.list = true,
                 "-v" | "--verbose" => parsed.verbose = true,
                 CHILD_STREAM => parsed.child_stream = Some(value(CHILD_STREAM)?.into()),
-                CHILD_SKIP => {
-                    let text = value(CHILD_SKIP)?;
-                    parsed.skip = text.parse().with_context(|| format!("{CHILD_SKIP} {text:?}"))?;
-                }
                 flag if flag.starts_with('-') => bail!("unknown option {flag}"),
                 _ => parsed.patterns.push(word),
             }
@@ -157,12 +163,12 @@ impl Suite<'_> {
                 retries: 0,
                 repeats: 1,
             };
-            run_child(&arguments.selector, &runs, arguments.skip, &options, stream)?;
+            run_child(&arguments.selector, &runs, &options, stream)?;
             return Ok(ExitCode::SUCCESS);
         }
         let info = RunInfo::now(RunKind::Check, None);
         let mut lines = LineSink { verbose: arguments.verbose };
-        let mut json = arguments.json.as_deref().map(|path| JsonSink { path, shard: None, run: info.clone() });
+        let mut json = arguments.json.as_deref().map(|path| JsonSink::new(path, None, info.clone()));
         let mut sinks: Vec<&mut dyn Sink> = vec![&mut lines];
         sinks.extend(json.as_mut().map(|sink| sink as &mut dyn Sink));
         let supervision = Supervision {
@@ -172,6 +178,12 @@ impl Suite<'_> {
             expectations: &expectations,
             timeout: arguments.timeout.map_or(CaseTimeout::FromBudget, CaseTimeout::Fixed),
             verbose: arguments.verbose,
+            jobs: arguments.jobs.unwrap_or(1),
+            skips: &SkipList::default(),
+            max_fails: None,
+            flaky_fails: false,
+            accept_adapter: &|_| Ok(()),
+            recorded: &[],
         };
         let report = supervise(&runs, &supervision, &mut sinks)?;
         let failures = report.failures(false);
@@ -194,13 +206,15 @@ mod tests {
 
     #[test]
     fn the_command_line_is_read_and_bad_input_refused() {
-        let parsed = Arguments::parse(words("kit.* --json r.json --set size=4x4 --backend gl --timeout 9")).unwrap();
+        let parsed =
+            Arguments::parse(words("kit.* --json r.json --set size=4x4 --backend gl --timeout 9 --jobs 2")).unwrap();
+        assert_eq!(parsed.jobs, Some(2));
         assert_eq!(parsed.patterns, ["kit.*"]);
         assert_eq!(parsed.json, Some(PathBuf::from("r.json")));
         assert_eq!(parsed.sets, ["size=4x4"]);
         assert_eq!(parsed.selector.backend.as_deref(), Some("gl"));
         assert_eq!(parsed.timeout, Some(Duration::from_secs(9)));
-        for bad in ["--json", "--frobnicate", "--timeout 0", "--timeout x", "--skip -1"] {
+        for bad in ["--json", "--frobnicate", "--timeout 0", "--timeout x", "--jobs 0", "--jobs"] {
             assert!(Arguments::parse(words(bad)).is_err(), "{bad} accepted");
         }
     }

@@ -1,20 +1,28 @@
-//! Cases run in a child process, as deqp-runner runs its case lists: a driver that aborts, a
-//! shader that never ends or a process killed from outside costs one case, not the run. The child
-//! (this program again, with `--child-stream FILE --skip N`) runs the case list from run N and streams each record;
-//! the parent hands the records to its sinks as they come, records the case a child died in as
-//! `crash` (or `timeout`, when no record came within the case's time and the parent killed it:
-//! `CaseTimeout`) and starts a new child after it, so every output holds every case.
+//! Cases run in child processes, as deqp-runner runs its case lists: a driver that aborts, a
+//! shader that never ends or a process killed from outside costs one case, not the run. Each
+//! child (this program again, with `--child-stream FILE`) opens its device, says which it is, and
+//! runs the case runs its parent hands it on stdin, streaming each record; `jobs` children run at
+//! once, each handed the next case run as it frees up (the timed cases run alone: `case_lock`).
+//! The parent hands the records to its sinks in the list's order, records the case a child died
+//! in as `crash` (or `timeout`, when no record came within the case's time and the parent killed
+//! it: `CaseTimeout`) and starts a new child in its place, so every output holds every case.
+//! Before any case runs it holds the adapter to what the run expects and records the case runs a
+//! skip list names `skip`; after `max_fails` unexpected failures the rest are `not_run`.
 
+use std::collections::{BTreeMap, VecDeque};
 use std::ffi::OsString;
+use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitStatus, Stdio};
+use std::process::{Child, ChildStdin, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
 use fragkit_report::AdapterDescription;
 use fragkit_report::expectations::Expectations;
+use fragkit_report::readable::counted;
 use fragkit_report::report::{CaseRecord, Report, ReportedOutcome};
 use fragkit_report::sink::Sink;
+use fragkit_report::skips::SkipList;
 
 use super::case::Case;
 use super::child_process::{ending, log_tail};
@@ -25,7 +33,7 @@ use super::stream::{StreamLine, StreamSink, read_new_lines};
 use super::sweep::reproduce_line;
 use crate::gpu::{AdapterSelector, Gpu};
 
-/// How often the parent looks for new records and a child's end.
+/// How often the parent looks for new records and children's ends.
 const POLL: Duration = Duration::from_millis(20);
 
 /// How long a case may go without a record before the process running it is killed.
@@ -61,17 +69,18 @@ impl CaseTimeout {
     }
 }
 
-/// Files of one supervised run, removed when it ends.
+/// Files of one child, removed when it ends.
 struct Scratch {
     stream: PathBuf,
     stderr: PathBuf,
 }
 
 impl Scratch {
-    /// Named by this process's id, and emptied: a process killed before it could remove its
-    /// files leaves them behind, and a later one given the same id must not read its records.
-    fn new() -> Result<Self> {
-        let base = std::env::temp_dir().join(format!("fragkit-child-{}", std::process::id()));
+    /// Named by this process's id and the child's number, and emptied: a process killed before
+    /// it could remove its files leaves them behind, and a later one given the same id must not
+    /// read its records.
+    fn new(child: usize) -> Result<Self> {
+        let base = std::env::temp_dir().join(format!("fragkit-child-{}-{child}", std::process::id()));
         let scratch = Self { stream: base.with_extension("stream"), stderr: base.with_extension("stderr") };
         std::fs::File::create(&scratch.stream)
             .with_context(|| format!("creating the record stream {}", scratch.stream.display()))?;
@@ -86,7 +95,7 @@ impl Drop for Scratch {
     }
 }
 
-/// How a child ended, short of finishing its list.
+/// How a child ended while it ran a case.
 enum Death {
     Status(ExitStatus),
     TimedOut,
@@ -96,7 +105,7 @@ enum Death {
 pub struct Supervision<'a> {
     /// The child's command line after the program: the parent's own, less what only the parent
     /// writes. The child is this program (`std::env::current_exe`), given `arguments` and then
-    /// [`CHILD_STREAM`] FILE [`CHILD_SKIP`] N, and must answer them with [`run_child`].
+    /// [`CHILD_STREAM`] FILE, and must answer them with [`run_child`].
     pub arguments: Vec<OsString>,
     /// The command that runs one case on its own (`fragkit check`), for reproduce lines.
     pub command: &'a str,
@@ -104,161 +113,360 @@ pub struct Supervision<'a> {
     pub timeout: CaseTimeout,
     /// Echo what each child logged, after it.
     pub verbose: bool,
+    /// How many children run cases at once (`--jobs`; at least 1).
+    pub jobs: usize,
+    /// The case runs left out on this adapter (`--skips`, `--exclude`), recorded `skip`.
+    pub skips: &'a SkipList,
+    /// After this many unexpected failures no case starts; the rest are recorded `not_run`.
+    pub max_fails: Option<usize>,
+    /// Whether a flaky case counts as an unexpected failure.
+    pub flaky_fails: bool,
+    /// Judges the adapter the first child opened, before any case runs (`--expect-adapter`): an
+    /// error ends the run.
+    pub accept_adapter: &'a dyn Fn(&AdapterDescription) -> Result<()>,
+    /// What an interrupted run of this list recorded (`--resume`): those case runs keep their
+    /// records and do not run again. Each must be a case run of the list.
+    pub recorded: &'a [CaseRecord],
 }
 
-/// The flag that makes a program a supervised child: stream each record into this file.
+/// The flag that makes a program a supervised child: stream each record into this file, and
+/// run the case runs whose indices come on stdin, one a line.
 pub const CHILD_STREAM: &str = "--child-stream";
-/// The flag that tells a child which case run of the list to start at.
-pub const CHILD_SKIP: &str = "--skip";
 
-/// Runs `runs` in children of this program, handing every record to `sinks` as it comes;
-/// returns the report. A child that dies (a signal, an abort, an exit before recording) or
-/// goes quiet past its case's timeout costs that case alone: it is recorded `crash` or
-/// `timeout` (or `known_issue`, where the expectations list that death) and a new child
-/// continues from the case after it.
-pub fn supervise(runs: &[CaseRun], supervision: &Supervision, sinks: &mut [&mut dyn Sink]) -> Result<Report> {
-    let Supervision { arguments, timeout, verbose, .. } = supervision;
-    let (timeout, verbose) = (*timeout, *verbose);
-    let program = std::env::current_exe().context("finding this program to run the cases in a child")?;
-    let scratch = Scratch::new()?;
-    let mut report: Option<Report> = None;
-    let mut offset = 0u64;
-    let mut done = 0usize;
-    while done < runs.len() || report.is_none() {
-        let mut child = start_child(&program, arguments, &scratch, done)?;
-        let mut last_progress = Instant::now();
-        // None: the child ran its list to the end.
-        let death = loop {
-            let exited = child.try_wait().context("waiting for the case child")?;
-            let (lines, next) = read_new_lines(&scratch.stream, offset)?;
-            offset = next;
-            let mut finished = false;
-            for line in lines {
-                last_progress = Instant::now();
-                match line {
-                    StreamLine::Start { adapter, runs: count } => {
-                        if report.is_none() {
-                            for sink in sinks.iter_mut() {
-                                sink.start(&adapter, done + count)?;
-                            }
-                            report = Some(Report {
-                                adapter,
-                                cases: Vec::new(),
-                                diagnostics: Vec::new(),
-                                shard: None,
-                                run: None,
-                            });
-                        }
-                    }
-                    StreamLine::Record(record) => {
-                        let report = report.as_mut().context("the case child recorded before it started")?;
-                        for sink in sinks.iter_mut() {
-                            sink.record(&record)?;
-                        }
-                        report.cases.push(*record);
-                        done += 1;
-                    }
-                    StreamLine::Finished { diagnostics } => {
-                        report
-                            .as_mut()
-                            .context("the case child finished before it started")?
-                            .diagnostics
-                            .extend(diagnostics);
-                        finished = true;
-                    }
-                }
-            }
-            if finished {
-                let _ = child.wait();
-                break None;
-            }
-            if let Some(status) = exited {
-                break Some(Death::Status(status));
-            }
-            // The case now running (or, before the first record, the first): its own time.
-            let allowed = runs.get(done).map_or(SHORTEST, |run| timeout.of(run.case));
-            if last_progress.elapsed() > allowed {
-                child.kill().ok();
-                let _ = child.wait();
-                break Some(Death::TimedOut);
-            }
-            std::thread::sleep(POLL);
-        };
-        if verbose {
-            // What the child logged as it went (-v), after it.
-            eprint!("{}", std::fs::read_to_string(&scratch.stderr).unwrap_or_default());
+/// A child process and where it stands.
+struct Worker {
+    child: Child,
+    /// Where the parent writes the next case run's index; None once closed.
+    stdin: Option<ChildStdin>,
+    scratch: Scratch,
+    /// How far its stream has been read.
+    offset: u64,
+    started: Instant,
+    /// It has opened its device (its stream's first line).
+    opened: bool,
+    /// The case run it was handed and since when it runs (None while it waits for the case
+    /// lock: its clock stops).
+    busy: Option<(usize, Option<Instant>)>,
+}
+
+impl Worker {
+    fn start(program: &Path, arguments: &[OsString], number: usize) -> Result<Self> {
+        let scratch = Scratch::new(number)?;
+        let stderr = std::fs::File::create(&scratch.stderr)
+            .with_context(|| format!("creating {} for the case child's errors", scratch.stderr.display()))?;
+        let mut child = Command::new(program)
+            .args(arguments)
+            .arg(CHILD_STREAM)
+            .arg(&scratch.stream)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::null())
+            .stderr(stderr)
+            .spawn()
+            .with_context(|| format!("starting {} for the cases", program.display()))?;
+        let stdin = child.stdin.take();
+        Ok(Self { child, stdin, scratch, offset: 0, started: Instant::now(), opened: false, busy: None })
+    }
+
+    /// Hands it case run `index`; false where it can no longer take one (it died).
+    fn hand(&mut self, index: usize) -> bool {
+        let Some(stdin) = self.stdin.as_mut() else { return false };
+        if writeln!(stdin, "{index}").and_then(|()| stdin.flush()).is_err() {
+            return false;
         }
-        let Some(death) = death else { break };
-        let stderr_tail = log_tail(&scratch.stderr, 12);
-        let Some(report) = report.as_mut() else {
-            // The child never opened its device: an input or setup error, in its own words.
+        self.busy = Some((index, Some(Instant::now())));
+        true
+    }
+}
+
+impl Drop for Worker {
+    fn drop(&mut self) {
+        // A run that ends on an error leaves no child behind.
+        self.child.kill().ok();
+        let _ = self.child.wait();
+    }
+}
+
+/// A supervised run in progress: the case runs' records as they come, handed to the sinks in
+/// the list's order.
+struct Schedule<'r, 'c> {
+    runs: &'r [CaseRun<'c>],
+    records: Vec<Option<CaseRecord>>,
+    /// The case runs no child has been handed yet, in order.
+    pending: VecDeque<usize>,
+    /// How many records (a prefix of the list) the sinks have.
+    delivered: usize,
+    unexpected: usize,
+    report: Option<Report>,
+}
+
+impl Schedule<'_, '_> {
+    /// The first child opened `adapter`: judge it, skip what the skip lists name there, start the
+    /// sinks.
+    fn open(
+        &mut self,
+        adapter: AdapterDescription,
+        supervision: &Supervision,
+        sinks: &mut [&mut dyn Sink],
+    ) -> Result<()> {
+        (supervision.accept_adapter)(&adapter)?;
+        let mut recorded: BTreeMap<String, &CaseRecord> =
+            supervision.recorded.iter().map(|record| (record.run_name(), record)).collect();
+        for (index, run) in self.runs.iter().enumerate() {
+            let skipped = supervision.skips.reason(run.case.name, &adapter);
+            let unrun_record = |outcome, reason: &str| unrun(run, outcome, reason);
+            let key = unrun_record(ReportedOutcome::NotRun, "").run_name();
+            self.records[index] = match (recorded.remove(&key), skipped) {
+                (Some(record), _) => Some(record.clone()),
+                (None, Some(reason)) => Some(unrun_record(ReportedOutcome::Skip, &format!("skipped: {reason}"))),
+                (None, None) => {
+                    self.pending.push_back(index);
+                    None
+                }
+            };
+        }
+        if let Some(stray) = recorded.keys().next() {
             bail!(
-                "{}",
-                if stderr_tail.is_empty() {
-                    "the case child ended before opening a device".into()
-                } else {
-                    stderr_tail
-                }
+                "the run to resume recorded {stray}, which this command line does not run ({} more like it): resume with the cases, --set, --sweep and --shard it ran with",
+                recorded.len() - 1
             );
-        };
-        if let Death::Status(status) = &death {
-            if status.code() == Some(2) {
-                // The child's own error (a device it could not reopen): what ran is kept.
-                for sink in sinks.iter_mut() {
-                    sink.finish(report)?;
-                }
-                bail!("{stderr_tail}");
+        }
+        for sink in sinks.iter_mut() {
+            sink.start(&adapter, self.runs.len())?;
+        }
+        self.report = Some(Report { adapter, cases: Vec::new(), diagnostics: Vec::new(), shard: None, run: None });
+        Ok(())
+    }
+
+    /// Files case run `index`'s record; past `max_fails` unexpected failures, the case runs not
+    /// yet handed out are recorded `not_run`.
+    fn file(&mut self, index: usize, record: CaseRecord, supervision: &Supervision) {
+        if record.outcome.is_failure(supervision.flaky_fails) {
+            self.unexpected += 1;
+        }
+        self.records[index] = Some(record);
+        if let Some(limit) = supervision.max_fails.filter(|&limit| self.unexpected >= limit) {
+            let why = format!(
+                "not run: the run stopped after {} (--max-fails {limit})",
+                counted(self.unexpected, "unexpected failure", "unexpected failures")
+            );
+            for index in std::mem::take(&mut self.pending) {
+                self.records[index] = Some(unrun(&self.runs[index], ReportedOutcome::NotRun, &why));
             }
         }
-        let Some(run) = runs.get(done) else { break };
-        let stderr_whole = std::fs::read_to_string(&scratch.stderr).unwrap_or_default();
-        let death = DeathReport { death, message: last_message(&stderr_whole), stderr_tail };
-        let record = death_record(run, &death, &report.adapter, supervision);
-        for sink in sinks.iter_mut() {
-            sink.record(&record)?;
+    }
+
+    /// Hands the sinks every record that now follows the ones they have, in the list's order.
+    fn deliver(&mut self, sinks: &mut [&mut dyn Sink]) -> Result<()> {
+        let Some(report) = self.report.as_mut() else { return Ok(()) };
+        while let Some(Some(record)) = self.records.get_mut(self.delivered).map(Option::take) {
+            for sink in sinks.iter_mut() {
+                sink.record(&record)?;
+            }
+            report.cases.push(record);
+            self.delivered += 1;
         }
-        report.cases.push(record);
-        done += 1;
+        Ok(())
     }
-    let report = report.context("no case ran")?;
-    for sink in sinks.iter_mut() {
-        sink.finish(&report)?;
+
+    fn complete(&self) -> bool {
+        self.report.is_some() && self.delivered == self.runs.len()
     }
-    Ok(report)
+
+    /// Ends the sinks with what ran (also on an error that stops the run).
+    fn finish(&mut self, sinks: &mut [&mut dyn Sink]) -> Result<Report> {
+        let report = self.report.take().context("no case ran")?;
+        for sink in sinks.iter_mut() {
+            sink.finish(&report)?;
+        }
+        Ok(report)
+    }
 }
 
-fn start_child(program: &Path, arguments: &[OsString], scratch: &Scratch, skip: usize) -> Result<Child> {
-    let stderr = std::fs::File::create(&scratch.stderr)
-        .with_context(|| format!("creating {} for the case child's errors", scratch.stderr.display()))?;
-    Command::new(program)
-        .args(arguments)
-        .arg(CHILD_STREAM)
-        .arg(&scratch.stream)
-        .arg(CHILD_SKIP)
-        .arg(skip.to_string())
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(stderr)
-        .spawn()
-        .with_context(|| format!("starting {} for the cases", program.display()))
+/// The record of a case run that did not run, with its parameters.
+fn unrun(run: &CaseRun, outcome: ReportedOutcome, reason: &str) -> CaseRecord {
+    let params =
+        Params::resolve(run.case.name, run.case.params, &run.overrides).map(|p| p.to_map()).unwrap_or_default();
+    CaseRecord { params, ..CaseRecord::unmeasured(run.case.name, outcome, reason) }
 }
 
-/// The supervised child's side: opens the device `selector` names and runs `runs` from case run
-/// `skip` on, streaming each record into `stream` for the parent.
-pub fn run_child(
-    selector: &AdapterSelector,
-    runs: &[CaseRun],
-    skip: usize,
-    options: &RunOptions,
-    stream: &Path,
-) -> Result<()> {
+/// Runs `runs` in children of this program, `supervision.jobs` at once, handing every record to
+/// `sinks` in the list's order; returns the report. A child that dies (a signal, an abort, an
+/// exit before recording) or goes quiet past its case's timeout costs that case alone: it is
+/// recorded `crash` or `timeout` (or `known_issue`, where the expectations list that death) and
+/// a new child takes its place.
+pub fn supervise(runs: &[CaseRun], supervision: &Supervision, sinks: &mut [&mut dyn Sink]) -> Result<Report> {
+    let program = std::env::current_exe().context("finding this program to run the cases in a child")?;
+    let mut schedule = Schedule {
+        runs,
+        records: vec![None; runs.len()],
+        pending: VecDeque::new(),
+        delivered: 0,
+        unexpected: 0,
+        report: None,
+    };
+    let mut started = 1;
+    let mut workers = vec![Worker::start(&program, &supervision.arguments, 0)?];
+    let mut diagnostics = Vec::new();
+    while !schedule.complete() {
+        let mut index = 0;
+        while index < workers.len() {
+            let ended = watch(&mut workers[index], &mut schedule, supervision, sinks, &mut diagnostics);
+            match ended {
+                Ok(false) => index += 1,
+                Ok(true) => {
+                    let worker = workers.swap_remove(index);
+                    if supervision.verbose {
+                        // What the child logged as it went (-v), after it.
+                        eprint!("{}", std::fs::read_to_string(&worker.scratch.stderr).unwrap_or_default());
+                    }
+                }
+                Err(e) => {
+                    // What ran is kept: the sinks end with it.
+                    if schedule.report.is_some() {
+                        schedule.deliver(sinks)?;
+                        schedule.finish(sinks)?;
+                    }
+                    return Err(e);
+                }
+            }
+        }
+        schedule.deliver(sinks)?;
+        if schedule.report.is_some() {
+            for worker in workers.iter_mut().filter(|w| w.opened && w.busy.is_none()) {
+                let Some(next) = schedule.pending.pop_front() else { break };
+                if !worker.hand(next) {
+                    schedule.pending.push_front(next);
+                }
+            }
+            let busy = workers.iter().filter(|w| w.busy.is_some()).count();
+            let idle_or_opening = workers.len() - busy;
+            let wanted = supervision.jobs.max(1).min(busy + schedule.pending.len());
+            if workers.len() < wanted && idle_or_opening < schedule.pending.len() {
+                workers.push(Worker::start(&program, &supervision.arguments, started)?);
+                started += 1;
+            }
+        }
+        if !schedule.complete() {
+            std::thread::sleep(POLL);
+        }
+    }
+    // Every case run is recorded: each child, told there is no more, ends with its diagnostics.
+    for worker in &mut workers {
+        worker.stdin = None;
+    }
+    for mut worker in workers {
+        let deadline = Instant::now() + SHORTEST;
+        while worker.child.try_wait().ok().flatten().is_none() && Instant::now() < deadline {
+            std::thread::sleep(POLL);
+        }
+        let (lines, _) = read_new_lines(&worker.scratch.stream, worker.offset)?;
+        for line in lines {
+            if let StreamLine::Finished { diagnostics: logged } = line {
+                diagnostics.extend(logged);
+            }
+        }
+        if supervision.verbose {
+            eprint!("{}", std::fs::read_to_string(&worker.scratch.stderr).unwrap_or_default());
+        }
+    }
+    if let Some(report) = schedule.report.as_mut() {
+        report.diagnostics = diagnostics;
+    }
+    schedule.finish(sinks)
+}
+
+/// Reads what `worker` streamed and sees whether it died or ran out of time; true when it is
+/// gone (a case it ran recorded as its death).
+fn watch(
+    worker: &mut Worker,
+    schedule: &mut Schedule,
+    supervision: &Supervision,
+    sinks: &mut [&mut dyn Sink],
+    diagnostics: &mut Vec<String>,
+) -> Result<bool> {
+    let exited = worker.child.try_wait().context("waiting for the case child")?;
+    let (lines, next) = read_new_lines(&worker.scratch.stream, worker.offset)?;
+    worker.offset = next;
+    for line in lines {
+        match line {
+            StreamLine::Start { adapter, .. } => {
+                worker.opened = true;
+                if schedule.report.is_none() {
+                    schedule.open(adapter, supervision, sinks)?;
+                }
+            }
+            StreamLine::Waiting(waiting) => {
+                if let Some((_, clock)) = worker.busy.as_mut() {
+                    *clock = (!waiting).then(Instant::now);
+                }
+            }
+            StreamLine::Record(record) => {
+                let (index, _) = worker.busy.take().context("a case child recorded a case it was not handed")?;
+                schedule.file(index, *record, supervision);
+            }
+            StreamLine::Finished { diagnostics: logged } => diagnostics.extend(logged),
+        }
+    }
+    let death = match exited {
+        Some(status) => Death::Status(status),
+        None => {
+            let out_of_time = match worker.busy {
+                Some((index, Some(since))) => since.elapsed() > supervision.timeout.of(schedule.runs[index].case),
+                Some((_, None)) => false,
+                None => !worker.opened && worker.started.elapsed() > SHORTEST,
+            };
+            if !out_of_time {
+                return Ok(false);
+            }
+            worker.child.kill().ok();
+            let _ = worker.child.wait();
+            Death::TimedOut
+        }
+    };
+    let stderr_tail = log_tail(&worker.scratch.stderr, 12);
+    let Some((index, _)) = worker.busy else {
+        if worker.opened {
+            // Idle when it ended: no case is lost.
+            return Ok(true);
+        }
+        // It never opened a device: an input or setup error, in its own words.
+        bail!(
+            "{}",
+            match (&death, stderr_tail.is_empty()) {
+                (Death::TimedOut, _) => format!("the case child opened no device within {} s", SHORTEST.as_secs()),
+                (_, true) => "the case child ended before opening a device".to_owned(),
+                (_, false) => stderr_tail,
+            }
+        );
+    };
+    if let Death::Status(status) = &death
+        && status.code() == Some(2)
+    {
+        // The child's own error (a device it could not reopen): what ran is kept.
+        bail!("{stderr_tail}");
+    }
+    let adapter = schedule.report.as_ref().map(|r| r.adapter.clone()).unwrap_or_default();
+    let stderr_whole = std::fs::read_to_string(&worker.scratch.stderr).unwrap_or_default();
+    let death = DeathReport { death, message: last_message(&stderr_whole), stderr_tail };
+    let record = death_record(&schedule.runs[index], &death, &adapter, supervision);
+    schedule.file(index, record, supervision);
+    Ok(true)
+}
+
+/// The supervised child's side: opens the device `selector` names, checks every case run fits
+/// it, then runs the case runs whose indices come on stdin (one a line, until it closes),
+/// streaming each record into `stream` for the parent.
+pub fn run_child(selector: &AdapterSelector, runs: &[CaseRun], options: &RunOptions, stream: &Path) -> Result<()> {
     let gpu = Gpu::open(selector)?;
-    let runs = &runs[skip.min(runs.len())..];
     for planned in runs {
         check_sizes(gpu.device.limits().max_texture_dimension_2d, &[planned.case], &planned.overrides)?;
     }
     let mut sink = StreamSink::create(stream)?;
-    run(gpu, runs, options, &mut [&mut sink])?;
+    let handed = std::io::stdin()
+        .lines()
+        .map_while(|line| line.ok()?.trim().parse::<usize>().ok())
+        .map_while(|index| runs.get(index));
+    run(gpu, handed, runs.len(), options, &mut [&mut sink])?;
     Ok(())
 }
 
@@ -347,10 +555,10 @@ mod tests {
     /// A killed parent leaves its stream behind; a new parent with its process id starts empty.
     #[test]
     fn a_stream_left_by_a_dead_process_with_the_same_id_is_not_read() {
-        let stale = std::env::temp_dir().join(format!("fragkit-child-{}.stream", std::process::id()));
+        let stale = std::env::temp_dir().join(format!("fragkit-child-{}-0.stream", std::process::id()));
         let start = StreamLine::Start { adapter: AdapterDescription::default(), runs: 1 };
         std::fs::write(&stale, serde_json::to_string(&start).unwrap() + "\n").unwrap();
-        let scratch = Scratch::new().unwrap();
+        let scratch = Scratch::new(0).unwrap();
         let (lines, _) = read_new_lines(&scratch.stream, 0).unwrap();
         assert!(lines.is_empty(), "{} records from a dead process", lines.len());
     }

@@ -69,6 +69,7 @@ mod tests {
             Sweep { param: "size", range: SweepRange::Size { min: (1, 1), max: (300, 200) } },
         ],
         budget_s: 1,
+        timed_verdict: false,
         shaders: &[],
         run: |_| Ok(Outcome::Pass),
     };

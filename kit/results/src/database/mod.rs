@@ -253,6 +253,28 @@ impl Database {
             .with_context(|| format!("recording {} of run {run_id} in {location}", case.run_name()))
     }
 
+    /// The interrupted check run `id` (else the newest one) and what it recorded, for
+    /// `check --resume`: a missing run, a finished one or one of another kind is an error.
+    pub fn interrupted_run(&mut self, id: Option<i64>) -> Result<(i64, Report)> {
+        let runs = self.runs()?;
+        let location = self.location.clone();
+        let run = match id {
+            Some(id) => runs.iter().find(|r| r.id == id).with_context(|| format!("{location} holds no run {id}"))?,
+            None => runs
+                .iter()
+                .find(|r| !r.complete && r.kind == RunKind::Check)
+                .with_context(|| format!("{location} holds no interrupted check run to resume"))?,
+        };
+        anyhow::ensure!(!run.complete, "run {} in {location} finished: nothing to resume", run.id);
+        anyhow::ensure!(
+            run.kind == RunKind::Check,
+            "run {} in {location} is a {} run: only a check resumes",
+            run.id,
+            run.kind.name()
+        );
+        Ok((run.id, self.load(run.id)?))
+    }
+
     /// Marks run `run_id` complete: every case run it planned is recorded.
     pub fn finish_run(&mut self, run_id: i64) -> Result<()> {
         let location = self.location.clone();
@@ -691,6 +713,8 @@ pub struct DatabaseSink {
     adapter: AdapterDescription,
     recorded: usize,
     pending: std::collections::VecDeque<CaseRecord>,
+    /// The case runs (by run name) a resumed run recorded before: not recorded again.
+    earlier: std::collections::BTreeSet<String>,
 }
 
 impl DatabaseSink {
@@ -702,6 +726,18 @@ impl DatabaseSink {
             adapter: AdapterDescription::default(),
             recorded: 0,
             pending: Default::default(),
+            earlier: Default::default(),
+        }
+    }
+
+    /// Continues run `run_id`, interrupted after recording `recorded` (`check --resume`): those
+    /// case runs are not recorded again, the others follow them, and the run becomes complete.
+    pub fn resuming(database: Database, info: RunInfo, run_id: i64, recorded: &[CaseRecord]) -> Self {
+        Self {
+            run_id: Some(run_id),
+            recorded: recorded.len(),
+            earlier: recorded.iter().map(CaseRecord::run_name).collect(),
+            ..Self::new(database, info)
         }
     }
 
@@ -738,6 +774,9 @@ impl fragkit_report::sink::Sink for DatabaseSink {
     }
 
     fn record(&mut self, record: &CaseRecord) -> Result<()> {
+        if self.earlier.remove(&record.run_name()) {
+            return Ok(());
+        }
         self.pending.push_back(record.clone());
         self.flush_or_wait();
         Ok(())
