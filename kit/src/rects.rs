@@ -25,6 +25,12 @@ impl Rect {
         Self::new(0.0, 0.0, width as f32, height as f32)
     }
 
+    /// Its corners in clip space on a `target`-sized framebuffer (y up): x0, y0, x1, y1.
+    pub fn clip(&self, target: (u32, u32)) -> [f32; 4] {
+        let (w, h) = (target.0 as f32, target.1 as f32);
+        [self.x0 / w * 2.0 - 1.0, 1.0 - self.y0 / h * 2.0, self.x1 / w * 2.0 - 1.0, 1.0 - self.y1 / h * 2.0]
+    }
+
     /// Whether a point is inside under the top-left fill convention (left and top edges
     /// included, right and bottom excluded).
     pub fn covers(&self, x: f32, y: f32) -> bool {
@@ -48,14 +54,8 @@ pub struct RectBatch {
 
 impl RectBatch {
     pub fn new(gpu: &Gpu, target: (u32, u32), rects: &[(Rect, [f32; 4])]) -> Self {
-        let (w, h) = (target.0 as f32, target.1 as f32);
-        let instances: Vec<RectInstance> = rects
-            .iter()
-            .map(|(r, colour)| RectInstance {
-                clip: [r.x0 / w * 2.0 - 1.0, 1.0 - r.y0 / h * 2.0, r.x1 / w * 2.0 - 1.0, 1.0 - r.y1 / h * 2.0],
-                colour: *colour,
-            })
-            .collect();
+        let instances: Vec<RectInstance> =
+            rects.iter().map(|(r, colour)| RectInstance { clip: r.clip(target), colour: *colour }).collect();
         let buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("rect instances"),
             contents: bytemuck::cast_slice(&instances),
@@ -66,20 +66,25 @@ impl RectBatch {
 
     /// Draws instances `range` (all with `..`).
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, range: impl std::ops::RangeBounds<u32>) {
-        use std::ops::Bound;
-        let start = match range.start_bound() {
-            Bound::Included(&s) => s,
-            Bound::Excluded(&s) => s + 1,
-            Bound::Unbounded => 0,
-        };
-        let end = match range.end_bound() {
-            Bound::Included(&e) => e + 1,
-            Bound::Excluded(&e) => e,
-            Bound::Unbounded => self.count,
-        };
         pass.set_vertex_buffer(0, self.buffer.slice(..));
-        pass.draw(0..6, start..end);
+        pass.draw(0..6, instances(range, self.count));
     }
+}
+
+/// The instances `range` names among `count`.
+fn instances(range: impl std::ops::RangeBounds<u32>, count: u32) -> std::ops::Range<u32> {
+    use std::ops::Bound;
+    let start = match range.start_bound() {
+        Bound::Included(&s) => s,
+        Bound::Excluded(&s) => s + 1,
+        Bound::Unbounded => 0,
+    };
+    let end = match range.end_bound() {
+        Bound::Included(&e) => e + 1,
+        Bound::Excluded(&e) => e,
+        Bound::Unbounded => count,
+    };
+    start..end
 }
 
 /// Which fragment stage a rect pipeline runs.
@@ -198,5 +203,39 @@ pub fn stencil_state(
         depth_compare: depth.then_some(wgpu::CompareFunction::Always),
         stencil: wgpu::StencilState { front: face, back: face, read_mask: 0xff, write_mask: 0xff },
         bias: Default::default(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_rect_covers_its_top_and_left_edges_but_not_its_bottom_and_right() {
+        let rect = Rect::new(2.0, 3.0, 6.0, 5.0);
+        for (x, y, inside) in [
+            (2.0, 3.0, true),
+            (5.99, 4.99, true),
+            (6.0, 4.0, false),
+            (4.0, 5.0, false),
+            (1.99, 4.0, false),
+            (4.0, 2.99, false),
+        ] {
+            assert_eq!(rect.covers(x, y), inside, "({x}, {y})");
+        }
+        assert_eq!(Rect::full(8, 4), Rect::new(0.0, 0.0, 8.0, 4.0));
+    }
+
+    #[test]
+    fn clip_space_corners_and_instance_ranges_follow_their_definitions() {
+        // The whole target is clip space's square, y up.
+        assert_eq!(Rect::full(8, 4).clip((8, 4)), [-1.0, 1.0, 1.0, -1.0]);
+        assert_eq!(Rect::new(2.0, 1.0, 6.0, 3.0).clip((8, 4)), [-0.5, 0.5, 0.5, -0.5]);
+        assert_eq!(instances(.., 5), 0..5);
+        assert_eq!(instances(1..3, 5), 1..3);
+        assert_eq!(instances(1..=3, 5), 1..4);
+        assert_eq!(instances(2.., 5), 2..5);
+        use std::ops::Bound;
+        assert_eq!(instances((Bound::Excluded(1), Bound::Unbounded), 5), 2..5);
     }
 }

@@ -101,6 +101,15 @@ impl CheckerboardPlan {
 mod tests {
     use glam::Vec2;
 
+    #[test]
+    fn shadings_parse_back_from_their_names() {
+        assert_eq!(Shading::ALL.map(Shading::name), ["forward", "deferred"]);
+        for shading in Shading::ALL {
+            assert_eq!(Shading::parse(shading.name()).unwrap(), shading);
+        }
+        assert!(Shading::parse("Forward").is_err());
+    }
+
     use super::*;
     use crate::cbr::scene::{Motion, flat_rects, textured_corridor};
 

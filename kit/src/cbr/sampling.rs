@@ -273,4 +273,42 @@ mod tests {
         assert_eq!(offset_for_sample(0, &positions), [-0.25, -0.25]);
         assert_eq!(offset_for_sample(1, &positions), [0.25, 0.25]);
     }
+
+    /// A phase samples the checkerboard's pixels of its parity: (x + y + phase) even — the
+    /// definition, read plainly — on screens odd and even.
+    #[test]
+    fn a_phase_samples_the_pixels_of_its_parity() {
+        for screen in [(2, 2), (5, 4), (7, 3)] {
+            for phase in 0..2 {
+                let sampled = sampled_pixels(screen, phase);
+                assert_eq!(sampled.len(), (screen.0 * screen.1) as usize);
+                for (index, &hit) in sampled.iter().enumerate() {
+                    let (x, y) = (index as u32 % screen.0, index as u32 / screen.0);
+                    // Phase 1 samples one pixel to the right of phase 0: nothing lands on the
+                    // first column's odd rows (the documented gap).
+                    let parity = (x + y + phase) % 2 == 0;
+                    let past = phase == 1 && x == 0 && y % 2 == 1;
+                    assert_eq!(hit, parity && !past, "{screen:?} phase {phase} pixel ({x}, {y})");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn orientations_turn_the_target_and_the_clip_space_a_quarter() {
+        assert_eq!([Orientation::Upright.name(), Orientation::Turned.name()], ["upright", "turned"]);
+        assert_eq!(Orientation::Upright.target_size((64, 48)), (64, 48));
+        assert_eq!(Orientation::Turned.target_size((64, 48)), (48, 64));
+        assert_eq!(Orientation::Upright.clip_transform(), glam::Mat4::IDENTITY);
+        // A quarter turn: clip x goes to y, y to −x.
+        let turned = Orientation::Turned.clip_transform() * glam::Vec4::new(0.5, 0.25, 0.3, 1.0);
+        assert_eq!(turned, glam::Vec4::new(-0.25, 0.5, 0.3, 1.0));
+        assert_eq!(CheckerboardPath::Msaa2x.orientation(), Orientation::Upright);
+        assert_eq!(CheckerboardPath::OffsetPasses.orientation(), Orientation::Turned);
+        assert_eq!([CheckerboardPath::Msaa2x.name(), CheckerboardPath::OffsetPasses.name()], ["msaa2x", "offset_passes"]);
+        assert!(check_screen((2, 2)).is_ok());
+        for small in [(1, 2), (2, 1), (0, 0)] {
+            assert!(check_screen(small).is_err(), "{small:?}");
+        }
+    }
 }

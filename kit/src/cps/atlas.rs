@@ -75,6 +75,7 @@ mod tests {
             for atlas in [LevelAtlas::new(&extents), LevelAtlas::left(&extents)] {
                 let rects: Vec<_> = (0..levels).map(|l| atlas.rect(l)).collect();
                 for (i, &(x, y, w, h)) in rects.iter().enumerate() {
+                    assert_eq!(((x, y), (w, h)), (atlas.origins[i], extents[i]), "{screen:?} level {i}");
                     assert!(x + w <= atlas.size.0 && y + h <= atlas.size.1, "{screen:?} level {i} outside");
                     for &(x2, y2, w2, h2) in &rects[i + 1..] {
                         assert!(

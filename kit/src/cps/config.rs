@@ -161,3 +161,69 @@ impl CpsConfig {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_parse_back_and_entry_points_are_the_composite_shaders() {
+        for policy in [LodPolicy::foveated(), LodPolicy::content()] {
+            assert_eq!(LodPolicy::parse(policy.name()).unwrap(), policy);
+        }
+        assert_eq!(LodPolicy::Explicit(vec![0]).name(), "explicit");
+        assert!(LodPolicy::parse("explicit").is_err() && LodPolicy::parse("Foveated").is_err());
+        let names = CompositeMode::ALL.map(CompositeMode::name);
+        assert_eq!(names, ["nearest", "four_neighbour", "seam_free"]);
+        for mode in CompositeMode::ALL {
+            assert_eq!(CompositeMode::parse(mode.name()).unwrap(), mode);
+            assert_eq!(mode.entry_point(), format!("fs_composite_{}", mode.name()));
+        }
+        assert!(CompositeMode::parse("bilinear").is_err());
+        let config = CpsConfig::new(3, LodPolicy::content(), CompositeMode::SeamFree);
+        assert!(!config.shade_every_texel && config.clone().naive().shade_every_texel);
+        assert_eq!(CpsConfig { shade_every_texel: false, ..config.clone().naive() }, config);
+    }
+
+    /// The words the shaders read: the focus in pixels, then (r (2^k − 1))² for k ≤ top, rounded
+    /// from f64, and f32::MAX past it; zeros for the other policies.
+    #[test]
+    fn foveation_words_are_the_focus_and_the_squared_boundaries() {
+        let policy = LodPolicy::Foveated { focus: (0.25, 0.75), inner_radius: 3.0 };
+        let words = policy.foveation_words((200, 100), 5);
+        assert_eq!([f32::from_bits(words[0]), f32::from_bits(words[1])], [50.0, 75.0]);
+        assert_eq!([words[2], words[3]], [0, 0]);
+        for k in 1..=MAX_LEVEL {
+            let boundary = 3.0 * (2f64.powi(k as i32) - 1.0);
+            let expected = if k <= 5 { (boundary * boundary) as f32 } else { f32::MAX };
+            assert_eq!(f32::from_bits(words[3 + k as usize]), expected, "level {k}");
+        }
+        // A radius that does not round exactly in f32: the square is taken in f64 first.
+        let odd = LodPolicy::Foveated { focus: (0.5, 0.5), inner_radius: 24.1 }.foveation_words((64, 64), 8);
+        assert_eq!(f32::from_bits(odd[4]), (f64::from(24.1f32) * f64::from(24.1f32)) as f32);
+        assert_eq!(LodPolicy::content().foveation_words((64, 64), 8), [0; 4 + MAX_LEVEL as usize]);
+    }
+
+    #[test]
+    fn a_configuration_outside_its_ranges_is_refused_naming_the_value() {
+        let with = |policy: LodPolicy, max_level| CpsConfig::new(max_level, policy, CompositeMode::Nearest);
+        let refused = |config: CpsConfig, size, said: &str| {
+            let error = format!("{:#}", config.validate(size).unwrap_err());
+            assert!(error.contains(said), "{error}");
+        };
+        assert!(with(LodPolicy::foveated(), MAX_LEVEL).validate((8, 8)).is_ok());
+        refused(with(LodPolicy::foveated(), MAX_LEVEL + 1), (8, 8), "max LOD level 9 is out of range");
+        for radius in [0.0, -1.0, f32::NAN] {
+            refused(with(LodPolicy::Foveated { focus: (0.5, 0.5), inner_radius: radius }, 2), (8, 8), "foveation radius");
+        }
+        refused(with(LodPolicy::Foveated { focus: (f32::INFINITY, 0.5), inner_radius: 4.0 }, 2), (8, 8), "focus");
+        refused(with(LodPolicy::Content { normal_cos: 1.5, depth_ratio: 0.1 }, 2), (8, 8), "normal_cos 1.5");
+        refused(with(LodPolicy::Content { normal_cos: 0.5, depth_ratio: -0.1 }, 2), (8, 8), "depth_ratio -0.1");
+        assert!(with(LodPolicy::Content { normal_cos: -1.0, depth_ratio: 0.0 }, 2).validate((8, 8)).is_ok());
+        refused(with(LodPolicy::Explicit(vec![0; 15]), 2), (4, 4), "has 15 values; a 4x4 screen needs 16");
+        let mut levels = vec![MAX_LEVEL as u8; 16];
+        assert!(with(LodPolicy::Explicit(levels.clone()), 2).validate((4, 4)).is_ok());
+        levels[6] = MAX_LEVEL as u8 + 1;
+        refused(with(LodPolicy::Explicit(levels), 2), (4, 4), "explicit LOD 9 at pixel (2, 1)");
+    }
+}

@@ -243,4 +243,149 @@ mod tests {
         assert_eq!(f16_ulp(1.5), 2f64.powi(-10));
         assert_eq!(f16_ulp(1000.0), 2f64.powi(9 - 10));
     }
+
+    /// A seeded stream of numbers in [0, 1).
+    fn uniform(seed: u64) -> impl FnMut() -> f64 {
+        let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    fn vector(next: &mut impl FnMut() -> f64, scale: f64) -> DVec3 {
+        DVec3::new(next() - 0.5, next() - 0.5, next() - 0.5) * scale
+    }
+
+    /// `shade_sample` of lighting.wgsl read plainly, in f64: the colour.
+    fn plain_colour(surface: &Surface, eye: DVec3, lights: &[Light]) -> DVec3 {
+        let n = vec3(&surface.normal).normalize();
+        let position = vec3(&surface.position);
+        let v = (eye - position).normalize();
+        let mut colour = vec3(&surface.albedo) * 0.03;
+        for light in lights {
+            let to_light = light.position.as_dvec3() - position;
+            let distance = to_light.length();
+            let range = f64::from(light.range);
+            if distance >= range {
+                continue;
+            }
+            let l = to_light / distance;
+            let window = 1.0 - (distance / range) * (distance / range);
+            let attenuation = window * window / (1.0 + distance * distance);
+            let diffuse = n.dot(l).max(0.0);
+            let h = (l + v).normalize();
+            let specular = if diffuse > 0.0 { n.dot(h).max(0.0).powf(f64::from(surface.normal[3])) } else { 0.0 };
+            let tint = light.colour.as_dvec3() * f64::from(light.intensity);
+            colour += tint * attenuation * (vec3(&surface.albedo) * diffuse + DVec3::splat(f64::from(surface.albedo[3]) * specular));
+        }
+        colour
+    }
+
+    /// The documented bound read plainly: per light term its relative f32 error, pow's and the
+    /// window's; the f32 sum's; one f16 ulp of the stored value.
+    fn plain_bound(surface: &Surface, eye: DVec3, lights: &[Light], colour: DVec3) -> [f64; 3] {
+        let n = vec3(&surface.normal).normalize();
+        let position = vec3(&surface.position);
+        let v = (eye - position).normalize();
+        let shininess = f64::from(surface.normal[3]);
+        let mut sum = DVec3::ZERO;
+        let mut magnitude = vec3(&surface.albedo) * 0.03;
+        for light in lights {
+            let to_light = light.position.as_dvec3() - position;
+            let distance = to_light.length();
+            let range = f64::from(light.range);
+            if distance >= range {
+                continue;
+            }
+            let l = to_light / distance;
+            let window = 1.0 - (distance / range).powi(2);
+            let diffuse = n.dot(l).max(0.0);
+            let specular = if diffuse > 0.0 { n.dot((l + v).normalize()).max(0.0).powf(shininess) } else { 0.0 };
+            let radiance = light.colour.as_dvec3() * f64::from(light.intensity) * window * window / (1.0 + distance * distance);
+            let term = radiance * (vec3(&surface.albedo) * diffuse + DVec3::splat(f64::from(surface.albedo[3]) * specular));
+            let relative = 2f64.powi(-18) + shininess * 2f64.powi(-21) * std::f64::consts::LN_2 + 2.0 * 2f64.powi(-22) / window;
+            sum += term.abs() * relative;
+            magnitude += term.abs();
+        }
+        sum += magnitude * (lights.len() as f64 + 1.0) * 2f64.powi(-24);
+        std::array::from_fn(|c| sum[c] + f16_ulp(colour[c].abs() + sum[c]))
+    }
+
+    /// On seeded surfaces and lights where no decision is close (no light within 1 % of its
+    /// range, no surface within 0.01 of grazing), the model's colour is the plain reading's and
+    /// its bound the documented one's.
+    #[test]
+    fn shading_and_its_bound_are_the_definitions_on_seeded_scenes() {
+        let mut next = uniform(7);
+        let mut lit = 0;
+        for _ in 0..300 {
+            let position = vector(&mut next, 4.0);
+            let normal = vector(&mut next, 2.0) + DVec3::new(0.0, 0.3, 0.0);
+            let eye = position + vector(&mut next, 6.0) + normal.normalize() * 2.0;
+            let lights: Vec<Light> = (0..3)
+                .map(|_| Light {
+                    position: (position + vector(&mut next, 5.0)).as_vec3(),
+                    range: (1.0 + 4.0 * next()) as f32,
+                    colour: Vec3::new(next() as f32, next() as f32, next() as f32),
+                    intensity: (0.5 + 3.0 * next()) as f32,
+                })
+                .collect();
+            let f = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32];
+            let [px, py, pz] = f(position);
+            let [nx, ny, nz] = f(normal);
+            let surface = Surface {
+                position: [px, py, pz, 1.0],
+                normal: [nx, ny, nz, (1.0 + 60.0 * next()) as f32],
+                albedo: [next() as f32, next() as f32, next() as f32, next() as f32],
+            };
+            let (p, n) = (vec3(&surface.position), vec3(&surface.normal).normalize());
+            let close = lights.iter().any(|light| {
+                let to_light = light.position.as_dvec3() - p;
+                ((to_light.length() / f64::from(light.range)) - 1.0).abs() < 0.01 || n.dot(to_light.normalize()).abs() < 0.01
+            });
+            if close {
+                continue;
+            }
+            let eye = eye.as_vec3();
+            let shaded = shade(&surface, eye, &lights);
+            let colour = plain_colour(&surface, eye.as_dvec3(), &lights);
+            for c in 0..3 {
+                assert!((shaded.colour[c] - colour[c]).abs() <= 1e-12 * colour[c].abs().max(1e-3), "{shaded:?} vs {colour}");
+            }
+            let bound = plain_bound(&surface, eye.as_dvec3(), &lights, colour);
+            for c in 0..3 {
+                assert!((shaded.bound[c] - bound[c]).abs() <= 1e-9 * bound[c], "{:?} vs {bound:?}", shaded.bound);
+            }
+            lit += usize::from(colour.x > 0.03 * f64::from(surface.albedo[0]) + 1e-6);
+        }
+        assert!(lit > 50, "{lit} lit samples");
+    }
+
+    /// A sample within its bound in every channel is admitted; one channel past it is not, and
+    /// its error is that channel's, in units of its own bound.
+    #[test]
+    fn a_sample_is_admitted_within_its_bound_in_every_channel() {
+        let sample = ShadedSample { colour: [0.5, 1.0, 2.0], bound: [0.01, 0.02, 0.04] };
+        let at = |offsets: [f64; 3]| std::array::from_fn::<f32, 4, _>(|c| if c < 3 { (sample.colour[c] + offsets[c]) as f32 } else { 1.0 });
+        assert!(sample.admits(&at([0.009, -0.019, 0.039])));
+        for channel in 0..3 {
+            let mut offsets = [0.0; 3];
+            offsets[channel] = -1.5 * sample.bound[channel];
+            assert!(!sample.admits(&at(offsets)), "channel {channel}");
+            assert!((sample.error_in_bounds(&at(offsets)) - 1.5).abs() < 1e-4, "channel {channel}");
+        }
+        assert!((sample.error_in_bounds(&at([0.005, 0.0, -0.02])) - 0.5).abs() < 1e-4);
+        let comparison = PhongComparison::new(&[sample, sample], &[at([0.0; 3]), at([0.0, 0.03, 0.0])].concat());
+        assert_eq!((comparison.wrong.as_slice(), comparison.wrong_count), (&[false, true][..], 1));
+        assert!((comparison.worst - 1.5).abs() < 1e-4);
+        let image = comparison.evidence((2, 1), &[sample, sample], &[at([0.0; 3]), at([0.0, 0.03, 0.0])].concat()).unwrap();
+        assert_eq!(image.dimensions(), (6, 1));
+        // Result, expectation, and the mask: red where wrong.
+        assert_eq!(image.get_pixel(5, 0).0, [255, 0, 0, 255]);
+        assert_ne!(image.get_pixel(4, 0).0, [255, 0, 0, 255]);
+        assert_eq!(image.get_pixel(0, 0), image.get_pixel(2, 0), "the result's first pixel is its expectation");
+    }
 }

@@ -154,3 +154,149 @@ impl<'a> SurfaceModel<'a> {
         clip.z / clip.w
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec2;
+
+    use super::*;
+    use crate::scene::corridor::corridor;
+
+    /// A plain reading of the G-buffer pass's definition, by other means than the model's: the
+    /// ray from the eye through a pixel point built from the camera's basis and field of view, met
+    /// with each triangle's plane, kept where it lies inside all three edges, faces the camera and
+    /// lies between the near and far planes; NDC depth from the projection's formula. Per face
+    /// (two triangles), its first triangle hit; the nearest face, and the next face's depth.
+    struct Reference<'a> {
+        scene: &'a Scene,
+        size: (u32, u32),
+    }
+
+    struct ReferenceHit {
+        triangle: usize,
+        position: DVec3,
+        depth: f64,
+        next_depth: f64,
+    }
+
+    impl Reference<'_> {
+        fn cast(&self, x: f64, y: f64) -> Option<ReferenceHit> {
+            let camera = &self.scene.camera;
+            let (eye, target) = (camera.eye.as_dvec3(), camera.target.as_dvec3());
+            let forward = (target - eye).normalize();
+            let right = forward.cross(DVec3::Y).normalize();
+            let up = right.cross(forward);
+            let (w, h) = (f64::from(self.size.0), f64::from(self.size.1));
+            let half_height = (f64::from(camera.fov_y) / 2.0).tan();
+            let screen = DVec2::new(2.0 * x / w - 1.0, 1.0 - 2.0 * y / h);
+            // One unit along `forward` per unit of view depth.
+            let direction = forward + right * screen.x * half_height * (w / h) + up * screen.y * half_height;
+            let (near, far) = (f64::from(camera.near), f64::from(camera.far));
+            let mut faces: Vec<(usize, DVec3, f64)> = Vec::new();
+            for (i, t) in self.scene.vertices.chunks_exact(3).enumerate() {
+                let [a, b, c] = [0, 1, 2].map(|k| DVec3::from(t[k].position.map(f64::from)));
+                let normal = (b - a).cross(c - a);
+                if normal.dot(direction) >= 0.0 || faces.iter().any(|(j, ..)| j / 2 == i / 2) {
+                    continue;
+                }
+                let depth = normal.dot(a - eye) / normal.dot(direction);
+                let point = eye + direction * depth;
+                let inside = [(a, b), (b, c), (c, a)].iter().all(|(p, q)| (*q - *p).cross(point - *p).dot(normal) >= 0.0);
+                if inside && (near..=far).contains(&depth) {
+                    let ndc = far * (depth - near) / (depth * (far - near));
+                    faces.push((i, point, ndc));
+                }
+            }
+            let nearest = faces.iter().enumerate().min_by(|(_, a), (_, b)| a.2.total_cmp(&b.2))?.0;
+            let (triangle, position, depth) = faces[nearest];
+            let next_depth =
+                faces.iter().enumerate().filter(|(k, _)| *k != nearest).map(|(_, f)| f.2).fold(f64::INFINITY, f64::min);
+            Some(ReferenceHit { triangle, position, depth, next_depth })
+        }
+
+        fn expected(&self, band: f64) -> Vec<ExpectedPixel> {
+            let mut pixels = Vec::new();
+            for y in 0..self.size.1 {
+                for x in 0..self.size.0 {
+                    let (cx, cy) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+                    let centre = self.cast(cx, cy);
+                    let face = |hit: &Option<ReferenceHit>| hit.as_ref().map(|h| h.triangle / 2);
+                    let straddles = [(-band, -band), (band, -band), (-band, band), (band, band)]
+                        .iter()
+                        .any(|(dx, dy)| face(&self.cast(cx + dx, cy + dy)) != face(&centre));
+                    pixels.push(match centre {
+                        _ if straddles => ExpectedPixel::Ambiguous,
+                        Some(hit) if hit.next_depth - hit.depth <= DEPTH_TIE => ExpectedPixel::Ambiguous,
+                        Some(hit) => ExpectedPixel::Surface { triangle: hit.triangle, position: hit.position },
+                        None => ExpectedPixel::Background,
+                    });
+                }
+            }
+            pixels
+        }
+    }
+
+    /// The model's expectation is the definition's, pixel by pixel, on corridors from several
+    /// seeds, at a band of a quarter pixel and of none; positions to within the f32 camera.
+    #[test]
+    fn the_model_is_the_definition_pixel_by_pixel() {
+        let size = (32, 24);
+        let (mut surfaces, mut ambiguous, mut background) = (0, 0, 0);
+        for seed in 1..=2 {
+            let scene = corridor(seed, 1);
+            let model = SurfaceModel::new(&scene, size);
+            let reference = Reference { scene: &scene, size };
+            for band in [0.25, 0.0] {
+                let (got, want) = (model.expected(band), reference.expected(band));
+                for (index, (got, want)) in got.iter().zip(&want).enumerate() {
+                    let at = (index as u32 % size.0, index as u32 / size.0);
+                    match (got, want) {
+                        (
+                            ExpectedPixel::Surface { triangle, position },
+                            ExpectedPixel::Surface { triangle: t, position: p },
+                        ) => {
+                            assert_eq!(triangle, t, "seed {seed} band {band} pixel {at:?}");
+                            // The model casts through the pass's own f32 camera matrix: its rays
+                            // are the exact ones' to within a few f32 ulps.
+                            let error = (*position - *p).length();
+                            assert!(error <= 2f64.powi(-16) * p.length().max(1.0), "seed {seed} pixel {at:?}: {position} vs {p}");
+                            surfaces += 1;
+                        }
+                        _ => {
+                            assert_eq!(got, want, "seed {seed} band {band} pixel {at:?}");
+                            ambiguous += usize::from(*got == ExpectedPixel::Ambiguous);
+                            background += usize::from(*got == ExpectedPixel::Background);
+                        }
+                    }
+                }
+            }
+        }
+        // The scenes exercise every kind of pixel.
+        assert!(surfaces > 2500 && ambiguous > 200 && background > 0, "{surfaces} {ambiguous} {background}");
+    }
+
+    /// A hit projects back onto its pixel's centre, lies in its triangle's plane, and carries its
+    /// triangle's first vertex.
+    #[test]
+    fn a_hit_projects_to_its_pixel_and_lies_in_its_triangles_plane() {
+        let scene = corridor(2, 1);
+        let size = (32, 24);
+        let model = SurfaceModel::new(&scene, size);
+        let mut checked = 0;
+        for (index, pixel) in model.expected(0.25).iter().enumerate() {
+            let ExpectedPixel::Surface { triangle, position } = *pixel else { continue };
+            let centre = (f64::from(index as u32 % size.0) + 0.5, f64::from(index as u32 / size.0) + 0.5);
+            let (x, y) = model.project(position);
+            assert!((x - centre.0).abs() < 1e-6 && (y - centre.1).abs() < 1e-6, "{:?} vs {centre:?}", (x, y));
+            let (normal, vertex) = model.plane(triangle);
+            assert!((normal.length() - 1.0).abs() < 1e-12);
+            assert!(normal.dot(position - vertex).abs() < 1e-9, "off the plane of {triangle}");
+            let [a, b, c] = [0, 1, 2].map(|k| DVec3::from(scene.vertices[3 * triangle + k].position.map(f64::from)));
+            assert!((b - a).cross(c - a).normalize().dot(normal) > 1.0 - 1e-12, "the plane's normal faces the other way");
+            assert_eq!(vertex, a);
+            assert!(std::ptr::eq(model.vertex(triangle), &scene.vertices[3 * triangle]));
+            checked += 1;
+        }
+        assert!(checked > 400, "{checked}");
+    }
+}

@@ -16,6 +16,23 @@ pub fn fragment_random(noise: u32, depth: f32, id: u32, stream: u32) -> f32 {
 mod tests {
     use super::*;
 
+    /// The shader's expression (`fragment_random` of opacity.wgsl, `pcg_hash` of hash.wgsl)
+    /// evaluated outside Rust (Python's integers, masked to 32 bits) at four keys: the hashes it
+    /// gives, mapped as the shader maps them.
+    #[test]
+    fn the_number_is_the_shaders_at_keys_computed_elsewhere() {
+        let cases: [((u32, f32, u32, u32), u32); 4] = [
+            ((0, 0.0, 0, 0), 2_145_236_065),
+            ((12_345, 0.5, 7, 1), 586_145_096),
+            ((0xdead_beef, 0.999, 123_456, 3), 507_896_282),
+            ((1, 0.25, u32::MAX, 2), 2_835_253_432),
+        ];
+        for ((noise, depth, id, stream), hash) in cases {
+            let expected = ((hash >> 8) as f32 + 0.5) * (1.0 / 16_777_216.0);
+            assert_eq!(fragment_random(noise, depth, id, stream), expected, "{noise} {depth} {id} {stream}");
+        }
+    }
+
     const N: u32 = 4096;
 
     /// Pearson's correlation of paired draws.

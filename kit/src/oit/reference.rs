@@ -89,4 +89,53 @@ mod tests {
             assert!((centre[c] - expected[c]).abs() < 1e-6, "{centre:?} vs {expected:?}");
         }
     }
+
+    fn quad(rect: [f32; 4], depth: (f32, f32), alpha: f32, colour: [f32; 3], key: u32) -> Quad {
+        Quad { rect, depth, alpha, colour, key }
+    }
+
+    /// Which quads cover a point and at what depth, by the definition read plainly: a quad's
+    /// clip rect (y up) is the pixel rect [(x0+1)w/2, (x1+1)w/2) × [(1−y0)h/2, (1−y1)h/2), half
+    /// open, its depth linear from `depth.0` at its left edge to `depth.1` at its right; nearest
+    /// first, ties by key.
+    #[test]
+    fn a_point_is_covered_by_the_quads_whose_pixel_rects_hold_it_nearest_first() {
+        // On 8×4 pixels: the left half (x 0..4, y 0..4), its depth 0.2 → 0.6 across it; a quad
+        // on x 2..6, y 1..3 at 0.4 flat, key 5; one at the same depth with key 3.
+        let scene = QuadScene {
+            name: "test".into(),
+            quads: vec![
+                quad([-1.0, 1.0, 0.0, -1.0], (0.2, 0.6), 0.5, [1.0, 0.0, 0.0], 9),
+                quad([-0.5, 0.5, 0.5, -0.5], (0.4, 0.4), 0.5, [0.0, 1.0, 0.0], 5),
+                quad([-0.5, 0.5, 0.5, -0.5], (0.4, 0.4), 0.5, [0.0, 0.0, 1.0], 3),
+            ],
+        };
+        // Depths in thousandths.
+        let at = |x: f32, y: f32| -> Vec<(i32, usize)> {
+            covering(&scene, (8, 4), x, y).into_iter().map(|(d, i)| ((d * 1000.0).round() as i32, i)).collect()
+        };
+        assert_eq!(at(0.0, 0.0), [(200, 0)]);
+        assert_eq!(at(1.0, 3.9), [(300, 0)]);
+        // Left edge and top edge in, right and bottom out; equal depths by key.
+        assert_eq!(at(2.0, 1.0), [(400, 2), (400, 1), (400, 0)]);
+        assert_eq!(at(3.0, 2.0), [(400, 2), (400, 1), (500, 0)]);
+        assert_eq!(at(1.5, 2.0), [(350, 0)]);
+        assert_eq!(at(4.0, 2.0), [(400, 2), (400, 1)]);
+        assert_eq!(at(5.9, 2.9), [(400, 2), (400, 1)]);
+        assert_eq!(at(6.0, 2.0), []);
+        assert_eq!(at(5.0, 3.0), []);
+        assert_eq!(at(1.0, 4.0), []);
+        // A pixel is the mean of its samples: one sample in the red quad alone, one in none.
+        let image = exact_image(&scene, (8, 4), &[[0.5, 0.5], [7.0, 0.5]]);
+        assert_eq!(image[0], [0.25, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn rmse_is_the_root_of_the_mean_square_over_every_channel() {
+        let image = [[1.0, 0.0, 0.0], [0.0, 0.0, 0.5]];
+        let reference = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0]];
+        assert!((rmse(&image, &reference) - (1.25f64 / 6.0).sqrt()).abs() < 1e-12);
+        assert_eq!(rmse(&reference, &reference), 0.0);
+        assert_eq!(rmse(&[], &[]), 0.0);
+    }
 }

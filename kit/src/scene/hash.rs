@@ -50,6 +50,14 @@ mod tests {
         assert_eq!(pcg_hash(1), 2831084092);
     }
 
+    /// `hash_unit` is the hash's top 24 bits over 2^24 (the Python values above).
+    #[test]
+    fn a_unit_number_is_the_hashs_top_24_bits() {
+        assert_eq!(hash_unit(0), (129_708_002u32 >> 8) as f32 / 16_777_216.0);
+        assert_eq!(hash_unit(u32::MAX), (3_861_530_882u32 >> 8) as f32 / 16_777_216.0);
+        assert!((0..1000).map(hash_unit).all(|u| (0.0..1.0).contains(&u)));
+    }
+
     #[test]
     fn range_stays_in_bounds() {
         let mut rng = SeededRng::new(7);
