@@ -329,8 +329,7 @@ fn the_found_matrix_runs_every_adapter_here() {
     assert_eq!(code, 0, "{text}");
     for name in ["vulkan_llvmpipe", "gl_llvmpipe"] {
         // The table's row comes after the line that said it started.
-        let row =
-            text.lines().rfind(|l| l.starts_with(name)).unwrap_or_else(|| panic!("no {name} row: {text}"));
+        let row = text.lines().rfind(|l| l.starts_with(name)).unwrap_or_else(|| panic!("no {name} row: {text}"));
         assert!(row.ends_with("exit 0"), "{row}");
     }
     std::fs::remove_dir_all(&dir).ok();

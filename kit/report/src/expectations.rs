@@ -120,6 +120,13 @@ pub(crate) fn glob_matches(pattern: &str, text: &str) -> bool {
     Pattern::new(pattern).is_ok_and(|p| p.matches_with(text, options))
 }
 
+/// Whether `adapter` lies in an entry's scope: globs over its backend, name, driver and driver
+/// info, in that order; an absent glob matches anything.
+pub(crate) fn in_scope(scope: [&Option<String>; 4], adapter: &AdapterDescription) -> bool {
+    let fields = [&adapter.backend, &adapter.name, &adapter.driver, &adapter.driver_info];
+    scope.into_iter().zip(fields).all(|(pattern, text)| pattern.as_deref().is_none_or(|p| glob_matches(p, text)))
+}
+
 impl Expectations {
     pub fn parse(text: &str, origin: &str) -> Result<Self> {
         let parsed: Self = toml::from_str(text).with_context(|| format!("parsing expectations file {origin}"))?;
@@ -165,12 +172,8 @@ impl Expectations {
         adapter: &AdapterDescription,
     ) -> Option<&KnownValidationMessage> {
         self.known_validation_messages.iter().find(|known| {
-            let field = |pattern: &Option<String>, text: &str| pattern.as_deref().is_none_or(|p| glob_matches(p, text));
             glob_matches(&known.message, message)
-                && field(&known.backend, &adapter.backend)
-                && field(&known.adapter, &adapter.name)
-                && field(&known.driver, &adapter.driver)
-                && field(&known.driver_info, &adapter.driver_info)
+                && in_scope([&known.backend, &known.adapter, &known.driver, &known.driver_info], adapter)
         })
     }
 
@@ -214,12 +217,8 @@ impl KnownIssue {
     }
 
     fn matches(&self, case: &str, adapter: &AdapterDescription) -> bool {
-        let field = |pattern: &Option<String>, text: &str| pattern.as_deref().is_none_or(|p| glob_matches(p, text));
         self.case.globs().iter().any(|glob| glob_matches(glob, case))
-            && field(&self.backend, &adapter.backend)
-            && field(&self.adapter, &adapter.name)
-            && field(&self.driver, &adapter.driver)
-            && field(&self.driver_info, &adapter.driver_info)
+            && in_scope([&self.backend, &self.adapter, &self.driver, &self.driver_info], adapter)
     }
 }
 

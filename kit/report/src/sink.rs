@@ -164,6 +164,14 @@ mod tests {
         assert_eq!(written.run, Some(run));
         assert!(!partial_path(&path).exists(), "the partial report is gone once the run finished");
         assert_eq!(partial_path(Path::new("r.json")), Path::new("r.json.partial"));
+        // A run that recorded nothing has no report so far to remove; one that cannot be removed
+        // is an error.
+        JsonSink::new(&path, None, RunInfo::default()).finish(&report).unwrap();
+        std::fs::create_dir_all(partial_path(&path).join("in the way")).unwrap();
+        let error = JsonSink::new(&path, None, RunInfo::default()).finish(&report).unwrap_err();
+        assert!(format!("{error:#}").contains("removing"), "{error:#}");
+        std::fs::remove_dir_all(partial_path(&path)).ok();
+        std::fs::remove_file(&path).ok();
     }
 
     #[test]

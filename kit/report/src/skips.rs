@@ -16,7 +16,7 @@ use anyhow::{Context, Result, bail};
 use glob::Pattern;
 
 use crate::adapter::AdapterDescription;
-use crate::expectations::glob_matches;
+use crate::expectations::{glob_matches, in_scope};
 
 /// One line of a skip list.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -38,18 +38,8 @@ pub struct SkipList {
 
 impl SkipEntry {
     fn matches(&self, case: &str, adapter: &AdapterDescription) -> bool {
-        let field = |pattern: &Option<String>, text: &str| pattern.as_deref().is_none_or(|p| glob_matches(p, text));
         glob_matches(&self.case, case)
-            && field(&self.backend, &adapter.backend)
-            && field(&self.adapter, &adapter.name)
-            && field(&self.driver, &adapter.driver)
-            && field(&self.driver_info, &adapter.driver_info)
-    }
-
-    /// Whether the entry's scope names the adapter at all (else it is decided before any device
-    /// opens).
-    pub fn is_scoped(&self) -> bool {
-        self.backend.is_some() || self.adapter.is_some() || self.driver.is_some() || self.driver_info.is_some()
+            && in_scope([&self.backend, &self.adapter, &self.driver, &self.driver_info], adapter)
     }
 }
 
@@ -72,9 +62,10 @@ impl SkipList {
             };
             if body.is_empty() {
                 match comment {
-                    Some(text) if !text.is_empty() => comment_above.push(text),
+                    // A bare "#" keeps the block going and adds nothing to it.
+                    Some(text) => comment_above.extend((!text.is_empty()).then_some(text)),
                     // A blank line ends a comment block.
-                    _ => comment_above.clear(),
+                    None => comment_above.clear(),
                 }
                 continue;
             }
@@ -135,10 +126,6 @@ impl SkipList {
     pub fn reason(&self, case: &str, adapter: &AdapterDescription) -> Option<&str> {
         self.entries.iter().find(|e| e.matches(case, adapter)).map(|e| e.reason.as_str())
     }
-
-    pub fn is_empty(&self) -> bool {
-        self.entries.is_empty()
-    }
 }
 
 #[cfg(test)]
@@ -157,6 +144,7 @@ mod tests {
 
     const LIST: &str = "\
 # Hangs the GPU:
+#
 # bug 123.
 kit.msaa.*
 
@@ -171,14 +159,13 @@ soak.* adapter=*SwiftShader* driver_info=Mesa*
         assert_eq!(
             reasons,
             [
-                "Hangs the GPU: bug 123. (fleet.skips:3)",
-                "GL reconstruction is slow (fleet.skips:5)",
-                "listed in fleet.skips:6"
+                "Hangs the GPU: bug 123. (fleet.skips:4)",
+                "GL reconstruction is slow (fleet.skips:6)",
+                "listed in fleet.skips:7"
             ]
         );
         assert_eq!(list.entries[1].backend.as_deref(), Some("gl"));
         assert_eq!(list.entries[2].driver_info.as_deref(), Some("Mesa*"));
-        assert!(!list.entries[0].is_scoped() && list.entries[1].is_scoped());
     }
 
     #[test]

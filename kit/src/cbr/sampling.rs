@@ -305,7 +305,10 @@ mod tests {
         assert_eq!(turned, glam::Vec4::new(-0.25, 0.5, 0.3, 1.0));
         assert_eq!(CheckerboardPath::Msaa2x.orientation(), Orientation::Upright);
         assert_eq!(CheckerboardPath::OffsetPasses.orientation(), Orientation::Turned);
-        assert_eq!([CheckerboardPath::Msaa2x.name(), CheckerboardPath::OffsetPasses.name()], ["msaa2x", "offset_passes"]);
+        assert_eq!(
+            [CheckerboardPath::Msaa2x.name(), CheckerboardPath::OffsetPasses.name()],
+            ["msaa2x", "offset_passes"]
+        );
         assert!(check_screen((2, 2)).is_ok());
         for small in [(1, 2), (2, 1), (0, 0)] {
             assert!(check_screen(small).is_err(), "{small:?}");

@@ -214,7 +214,11 @@ mod tests {
         assert!(with(LodPolicy::foveated(), MAX_LEVEL).validate((8, 8)).is_ok());
         refused(with(LodPolicy::foveated(), MAX_LEVEL + 1), (8, 8), "max LOD level 9 is out of range");
         for radius in [0.0, -1.0, f32::NAN] {
-            refused(with(LodPolicy::Foveated { focus: (0.5, 0.5), inner_radius: radius }, 2), (8, 8), "foveation radius");
+            refused(
+                with(LodPolicy::Foveated { focus: (0.5, 0.5), inner_radius: radius }, 2),
+                (8, 8),
+                "foveation radius",
+            );
         }
         refused(with(LodPolicy::Foveated { focus: (f32::INFINITY, 0.5), inner_radius: 4.0 }, 2), (8, 8), "focus");
         refused(with(LodPolicy::Content { normal_cos: 1.5, depth_ratio: 0.1 }, 2), (8, 8), "normal_cos 1.5");

@@ -279,7 +279,9 @@ mod tests {
             let h = (l + v).normalize();
             let specular = if diffuse > 0.0 { n.dot(h).max(0.0).powf(f64::from(surface.normal[3])) } else { 0.0 };
             let tint = light.colour.as_dvec3() * f64::from(light.intensity);
-            colour += tint * attenuation * (vec3(&surface.albedo) * diffuse + DVec3::splat(f64::from(surface.albedo[3]) * specular));
+            colour += tint
+                * attenuation
+                * (vec3(&surface.albedo) * diffuse + DVec3::splat(f64::from(surface.albedo[3]) * specular));
         }
         colour
     }
@@ -304,9 +306,12 @@ mod tests {
             let window = 1.0 - (distance / range).powi(2);
             let diffuse = n.dot(l).max(0.0);
             let specular = if diffuse > 0.0 { n.dot((l + v).normalize()).max(0.0).powf(shininess) } else { 0.0 };
-            let radiance = light.colour.as_dvec3() * f64::from(light.intensity) * window * window / (1.0 + distance * distance);
-            let term = radiance * (vec3(&surface.albedo) * diffuse + DVec3::splat(f64::from(surface.albedo[3]) * specular));
-            let relative = 2f64.powi(-18) + shininess * 2f64.powi(-21) * std::f64::consts::LN_2 + 2.0 * 2f64.powi(-22) / window;
+            let radiance =
+                light.colour.as_dvec3() * f64::from(light.intensity) * window * window / (1.0 + distance * distance);
+            let term =
+                radiance * (vec3(&surface.albedo) * diffuse + DVec3::splat(f64::from(surface.albedo[3]) * specular));
+            let relative =
+                2f64.powi(-18) + shininess * 2f64.powi(-21) * std::f64::consts::LN_2 + 2.0 * 2f64.powi(-22) / window;
             sum += term.abs() * relative;
             magnitude += term.abs();
         }
@@ -344,7 +349,8 @@ mod tests {
             let (p, n) = (vec3(&surface.position), vec3(&surface.normal).normalize());
             let close = lights.iter().any(|light| {
                 let to_light = light.position.as_dvec3() - p;
-                ((to_light.length() / f64::from(light.range)) - 1.0).abs() < 0.01 || n.dot(to_light.normalize()).abs() < 0.01
+                ((to_light.length() / f64::from(light.range)) - 1.0).abs() < 0.01
+                    || n.dot(to_light.normalize()).abs() < 0.01
             });
             if close {
                 continue;
@@ -353,7 +359,10 @@ mod tests {
             let shaded = shade(&surface, eye, &lights);
             let colour = plain_colour(&surface, eye.as_dvec3(), &lights);
             for c in 0..3 {
-                assert!((shaded.colour[c] - colour[c]).abs() <= 1e-12 * colour[c].abs().max(1e-3), "{shaded:?} vs {colour}");
+                assert!(
+                    (shaded.colour[c] - colour[c]).abs() <= 1e-12 * colour[c].abs().max(1e-3),
+                    "{shaded:?} vs {colour}"
+                );
             }
             let bound = plain_bound(&surface, eye.as_dvec3(), &lights, colour);
             for c in 0..3 {
@@ -369,7 +378,9 @@ mod tests {
     #[test]
     fn a_sample_is_admitted_within_its_bound_in_every_channel() {
         let sample = ShadedSample { colour: [0.5, 1.0, 2.0], bound: [0.01, 0.02, 0.04] };
-        let at = |offsets: [f64; 3]| std::array::from_fn::<f32, 4, _>(|c| if c < 3 { (sample.colour[c] + offsets[c]) as f32 } else { 1.0 });
+        let at = |offsets: [f64; 3]| {
+            std::array::from_fn::<f32, 4, _>(|c| if c < 3 { (sample.colour[c] + offsets[c]) as f32 } else { 1.0 })
+        };
         assert!(sample.admits(&at([0.009, -0.019, 0.039])));
         for channel in 0..3 {
             let mut offsets = [0.0; 3];
@@ -381,7 +392,8 @@ mod tests {
         let comparison = PhongComparison::new(&[sample, sample], &[at([0.0; 3]), at([0.0, 0.03, 0.0])].concat());
         assert_eq!((comparison.wrong.as_slice(), comparison.wrong_count), (&[false, true][..], 1));
         assert!((comparison.worst - 1.5).abs() < 1e-4);
-        let image = comparison.evidence((2, 1), &[sample, sample], &[at([0.0; 3]), at([0.0, 0.03, 0.0])].concat()).unwrap();
+        let image =
+            comparison.evidence((2, 1), &[sample, sample], &[at([0.0; 3]), at([0.0, 0.03, 0.0])].concat()).unwrap();
         assert_eq!(image.dimensions(), (6, 1));
         // Result, expectation, and the mask: red where wrong.
         assert_eq!(image.get_pixel(5, 0).0, [255, 0, 0, 255]);

@@ -201,7 +201,8 @@ mod tests {
                 }
                 let depth = normal.dot(a - eye) / normal.dot(direction);
                 let point = eye + direction * depth;
-                let inside = [(a, b), (b, c), (c, a)].iter().all(|(p, q)| (*q - *p).cross(point - *p).dot(normal) >= 0.0);
+                let inside =
+                    [(a, b), (b, c), (c, a)].iter().all(|(p, q)| (*q - *p).cross(point - *p).dot(normal) >= 0.0);
                 if inside && (near..=far).contains(&depth) {
                     let ndc = far * (depth - near) / (depth * (far - near));
                     faces.push((i, point, ndc));
@@ -259,7 +260,10 @@ mod tests {
                             // The model casts through the pass's own f32 camera matrix: its rays
                             // are the exact ones' to within a few f32 ulps.
                             let error = (*position - *p).length();
-                            assert!(error <= 2f64.powi(-16) * p.length().max(1.0), "seed {seed} pixel {at:?}: {position} vs {p}");
+                            assert!(
+                                error <= 2f64.powi(-16) * p.length().max(1.0),
+                                "seed {seed} pixel {at:?}: {position} vs {p}"
+                            );
                             surfaces += 1;
                         }
                         _ => {
@@ -292,7 +296,10 @@ mod tests {
             assert!((normal.length() - 1.0).abs() < 1e-12);
             assert!(normal.dot(position - vertex).abs() < 1e-9, "off the plane of {triangle}");
             let [a, b, c] = [0, 1, 2].map(|k| DVec3::from(scene.vertices[3 * triangle + k].position.map(f64::from)));
-            assert!((b - a).cross(c - a).normalize().dot(normal) > 1.0 - 1e-12, "the plane's normal faces the other way");
+            assert!(
+                (b - a).cross(c - a).normalize().dot(normal) > 1.0 - 1e-12,
+                "the plane's normal faces the other way"
+            );
             assert_eq!(vertex, a);
             assert!(std::ptr::eq(model.vertex(triangle), &scene.vertices[3 * triangle]));
             checked += 1;

@@ -1165,6 +1165,58 @@ mod tests {
         });
     }
 
+    /// An interrupted check run is found (the newest, passing over finished runs and other
+    /// kinds), continued by a resuming sink that records only what it had not, and completed;
+    /// a finished run, one of another kind or a missing one is refused.
+    #[test]
+    fn an_interrupted_run_is_found_continued_once_and_completed() {
+        use fragkit_report::sink::Sink;
+        on_each_backend("resume", |location| {
+            let gpu = adapter("gpu", "vulkan", "Mesa 1");
+            let case = |name: &str| CaseRecord::unmeasured(name, ReportedOutcome::Pass, "");
+            let mut db = Database::open(location).unwrap();
+            let error = |db: &mut Database, id| format!("{:#}", db.interrupted_run(id).unwrap_err());
+            assert!(error(&mut db, None).contains("holds no interrupted check run"));
+            // An interrupted check with one case run recorded, then an interrupted bench and a
+            // finished check after it.
+            let mut killed = DatabaseSink::new(Database::open(location).unwrap(), RunInfo::default());
+            killed.start(&gpu, 3).unwrap();
+            killed.record(&case("kit.a")).unwrap();
+            killed.record(&case("kit.b")).unwrap();
+            let interrupted = killed.run_id.unwrap();
+            let bench_info = RunInfo { kind: RunKind::Bench, ..Default::default() };
+            let bench = db.begin_run(&gpu, &bench_info).unwrap();
+            let finished = db.record(&report(), &RunInfo::default(), None).unwrap();
+            let (id, report_so_far) = db.interrupted_run(None).unwrap();
+            assert_eq!(id, interrupted);
+            assert_eq!(report_so_far.cases.iter().map(|c| c.name.as_str()).collect::<Vec<_>>(), ["kit.a", "kit.b"]);
+            assert_eq!(db.interrupted_run(Some(interrupted)).unwrap().0, interrupted);
+            assert!(error(&mut db, Some(finished)).contains(&format!("run {finished} in {location} finished")));
+            assert!(error(&mut db, Some(bench)).contains("is a bench run: only a check resumes"));
+            assert!(error(&mut db, Some(999)).contains("holds no run 999"));
+            // Resumed: the sink is handed every record of the list, the recorded one included.
+            let mut resumed = DatabaseSink::resuming(
+                Database::open(location).unwrap(),
+                RunInfo::default(),
+                interrupted,
+                &report_so_far.cases,
+            );
+            resumed.start(&gpu, 3).unwrap();
+            for name in ["kit.a", "kit.b", "kit.c"] {
+                resumed.record(&case(name)).unwrap();
+            }
+            let whole = db.load(interrupted).unwrap();
+            resumed.finish(&whole).unwrap();
+            let names: Vec<String> = db.load(interrupted).unwrap().cases.into_iter().map(|c| c.name).collect();
+            // The new case run follows the recorded ones, in the list's order.
+            assert_eq!(names, ["kit.a", "kit.b", "kit.c"]);
+            let run = db.runs().unwrap().into_iter().find(|r| r.id == interrupted).unwrap();
+            assert!(run.complete && run.case_runs == 3);
+            assert_eq!(db.runs().unwrap().len(), 3, "no new run was begun");
+            assert!(error(&mut db, None).contains("holds no interrupted check run"));
+        });
+    }
+
     #[test]
     fn a_database_of_other_tables_or_a_missing_file_is_refused_and_an_old_schema_migrated() {
         let dir = std::env::temp_dir().join(format!("fragkit-db-refusals-{}", std::process::id()));
