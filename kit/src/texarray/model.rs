@@ -161,6 +161,32 @@ pub fn possible_elements(variant: FetchVariant, k: u32, size: (u32, u32)) -> Vec
 mod tests {
     use super::*;
 
+    /// The interval arithmetic's pieces by their definitions: widening by ULPs without crossing
+    /// zero, `f32(k)` exact up to 2^24, `fract` within one whole number, and nearest texels one
+    /// sub-texel step either side of the texel coordinate.
+    #[test]
+    fn interval_pieces_follow_their_definitions() {
+        let half = Interval::rounded(1.0, 2.0, 0.5);
+        assert_eq!(half, Interval { lo: 1.0 - 0.5 * 2f64.powi(-23), hi: 2.0 + 0.5 * 2f64.powi(-22) });
+        assert_eq!(Interval::rounded(0.0, 0.0, 3.0), Interval::exact(0.0));
+        // The smallest values widen towards zero but never past it.
+        let tiny = 2f64.powi(-150);
+        assert_eq!(Interval::rounded(tiny, tiny, 1.0).lo, 0.0);
+        assert_eq!(Interval::rounded(-tiny, -tiny, 1.0).hi, 0.0);
+        assert_eq!(Interval::rounded(-3.0, -1.0, 1.0), Interval { lo: -3.0 - 2f64.powi(-22), hi: -1.0 + 2f64.powi(-23) });
+        assert_eq!(Interval::from_index(1 << 24), Interval::exact(16_777_216.0));
+        let past = f64::from((1u32 << 24) + 1);
+        assert_eq!(Interval::from_index((1 << 24) + 1), Interval { lo: past - 2.0, hi: past + 2.0 });
+        assert_eq!(Interval { lo: 1.25, hi: 1.5 }.fract(), Interval { lo: 0.25, hi: 0.5 });
+        assert_eq!(Interval { lo: 1.75, hi: 2.25 }.fract(), Interval { lo: 0.0, hi: 1.0 });
+        // 0.5 of 8 texels is texel coordinate 4: a 1/16 step either side reaches texel 3.
+        assert_eq!(nearest_texels(Interval::exact(0.5), 8), [3, 4]);
+        assert_eq!(nearest_texels(Interval::exact(0.53), 8), [4]);
+        // Repeat addressing wraps texel −1 to 7; a range over every texel is every texel.
+        assert_eq!(nearest_texels(Interval::exact(0.0), 8), [0, 7]);
+        assert_eq!(nearest_texels(Interval { lo: 0.1, hi: 0.95 }, 8), (0..8).collect::<Vec<_>>());
+    }
+
     #[test]
     fn the_integer_fetch_is_exact_and_the_float_ones_where_the_formats_allow() {
         let size = (4096, 4097);
