@@ -58,6 +58,16 @@ mod tests {
         assert!((0..1000).map(hash_unit).all(|u| (0.0..1.0).contains(&u)));
     }
 
+    /// The n-th draw of seed 7 is pcg_hash(pcg_hash(7) + n) (Python's values); `unit` is its top
+    /// 24 bits over 2^24.
+    #[test]
+    fn a_seeded_stream_draws_the_hash_of_its_seed_plus_n() {
+        let mut rng = SeededRng::new(7);
+        assert_eq!(rng.next_u32(), 2809854175);
+        assert_eq!(rng.unit(), (3686869381u32 >> 8) as f32 / 16_777_216.0);
+        assert_eq!(rng.next_u32(), 925619080);
+    }
+
     #[test]
     fn range_stays_in_bounds() {
         let mut rng = SeededRng::new(7);

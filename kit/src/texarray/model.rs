@@ -173,7 +173,10 @@ mod tests {
         let tiny = 2f64.powi(-150);
         assert_eq!(Interval::rounded(tiny, tiny, 1.0).lo, 0.0);
         assert_eq!(Interval::rounded(-tiny, -tiny, 1.0).hi, 0.0);
-        assert_eq!(Interval::rounded(-3.0, -1.0, 1.0), Interval { lo: -3.0 - 2f64.powi(-22), hi: -1.0 + 2f64.powi(-23) });
+        assert_eq!(
+            Interval::rounded(-3.0, -1.0, 1.0),
+            Interval { lo: -3.0 - 2f64.powi(-22), hi: -1.0 + 2f64.powi(-23) }
+        );
         assert_eq!(Interval::from_index(1 << 24), Interval::exact(16_777_216.0));
         let past = f64::from((1u32 << 24) + 1);
         assert_eq!(Interval::from_index((1 << 24) + 1), Interval { lo: past - 2.0, hi: past + 2.0 });
