@@ -119,6 +119,13 @@ fn vec3(v: &[f32]) -> DVec3 {
     DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
 }
 
+/// `v` normalised, or `fallback` where `v` is too short to have a direction (the shader's
+/// `select(n, v / length, length > 1e-6)`: an eye or a light at the surface point).
+fn direction(v: DVec3, fallback: DVec3) -> DVec3 {
+    let length = v.length();
+    if length > 1e-6 { v / length } else { fallback }
+}
+
 /// The Phong shading of `surface` seen from `eye` under `lights`, as defined in `lighting.wgsl`.
 pub fn shade(surface: &Surface, eye: glam::Vec3, lights: &[Light]) -> ShadedSample {
     if surface.position[3] == 0.0 {
@@ -130,9 +137,7 @@ pub fn shade(surface: &Surface, eye: glam::Vec3, lights: &[Light]) -> ShadedSamp
     let albedo = vec3(&surface.albedo);
     let specular_weight = f64::from(surface.albedo[3]);
     let position = vec3(&surface.position);
-    let to_eye = eye.as_dvec3() - position;
-    let view_distance = to_eye.length();
-    let v = if view_distance > 1e-6 { to_eye / view_distance } else { n };
+    let v = direction(eye.as_dvec3() - position, n);
 
     let mut colour = albedo * 0.03;
     let mut magnitude = colour;
@@ -145,7 +150,7 @@ pub fn shade(surface: &Surface, eye: glam::Vec3, lights: &[Light]) -> ShadedSamp
         if distance >= range && !range_ambiguous {
             continue;
         }
-        let l = if distance > 1e-6 { to_light / distance } else { n };
+        let l = direction(to_light, n);
         let window = (1.0 - (distance / range).powi(2)).max(0.0);
         let attenuation = window * window / (1.0 + distance * distance);
         let cosine = n.dot(l);
