@@ -264,12 +264,16 @@ mod tests {
         DVec3::new(next() - 0.5, next() - 0.5, next() - 0.5) * scale
     }
 
-    /// `shade_sample` of lighting.wgsl read plainly, in f64: the colour.
-    fn plain_colour(surface: &Surface, eye: DVec3, lights: &[Light]) -> DVec3 {
+    /// `shade_sample` of lighting.wgsl read plainly, in f64, and the documented bound beside it:
+    /// per light term its relative f32 error, pow's and the window's; the f32 sum's; one f16 ulp
+    /// of the stored value.
+    fn plain_shading(surface: &Surface, eye: DVec3, lights: &[Light]) -> (DVec3, [f64; 3]) {
         let n = vec3(&surface.normal).normalize();
         let position = vec3(&surface.position);
         let v = (eye - position).normalize();
+        let shininess = f64::from(surface.normal[3]);
         let mut colour = vec3(&surface.albedo) * 0.03;
+        let (mut sum, mut magnitude) = (DVec3::ZERO, colour);
         for light in lights {
             let to_light = light.position.as_dvec3() - position;
             let distance = to_light.length();
@@ -282,46 +286,19 @@ mod tests {
             let attenuation = window * window / (1.0 + distance * distance);
             let diffuse = n.dot(l).max(0.0);
             let h = (l + v).normalize();
-            let specular = if diffuse > 0.0 { n.dot(h).max(0.0).powf(f64::from(surface.normal[3])) } else { 0.0 };
+            let specular = if diffuse > 0.0 { n.dot(h).max(0.0).powf(shininess) } else { 0.0 };
             let tint = light.colour.as_dvec3() * f64::from(light.intensity);
-            colour += tint
+            let term = tint
                 * attenuation
                 * (vec3(&surface.albedo) * diffuse + DVec3::splat(f64::from(surface.albedo[3]) * specular));
-        }
-        colour
-    }
-
-    /// The documented bound read plainly: per light term its relative f32 error, pow's and the
-    /// window's; the f32 sum's; one f16 ulp of the stored value.
-    fn plain_bound(surface: &Surface, eye: DVec3, lights: &[Light], colour: DVec3) -> [f64; 3] {
-        let n = vec3(&surface.normal).normalize();
-        let position = vec3(&surface.position);
-        let v = (eye - position).normalize();
-        let shininess = f64::from(surface.normal[3]);
-        let mut sum = DVec3::ZERO;
-        let mut magnitude = vec3(&surface.albedo) * 0.03;
-        for light in lights {
-            let to_light = light.position.as_dvec3() - position;
-            let distance = to_light.length();
-            let range = f64::from(light.range);
-            if distance >= range {
-                continue;
-            }
-            let l = to_light / distance;
-            let window = 1.0 - (distance / range).powi(2);
-            let diffuse = n.dot(l).max(0.0);
-            let specular = if diffuse > 0.0 { n.dot((l + v).normalize()).max(0.0).powf(shininess) } else { 0.0 };
-            let radiance =
-                light.colour.as_dvec3() * f64::from(light.intensity) * window * window / (1.0 + distance * distance);
-            let term =
-                radiance * (vec3(&surface.albedo) * diffuse + DVec3::splat(f64::from(surface.albedo[3]) * specular));
+            colour += term;
             let relative =
                 2f64.powi(-18) + shininess * 2f64.powi(-21) * std::f64::consts::LN_2 + 2.0 * 2f64.powi(-22) / window;
             sum += term.abs() * relative;
             magnitude += term.abs();
         }
         sum += magnitude * (lights.len() as f64 + 1.0) * 2f64.powi(-24);
-        std::array::from_fn(|c| sum[c] + f16_ulp(colour[c].abs() + sum[c]))
+        (colour, std::array::from_fn(|c| sum[c] + f16_ulp(colour[c].abs() + sum[c])))
     }
 
     /// On seeded surfaces and lights where no decision is close (no light within 1 % of its
@@ -362,14 +339,13 @@ mod tests {
             }
             let eye = eye.as_vec3();
             let shaded = shade(&surface, eye, &lights);
-            let colour = plain_colour(&surface, eye.as_dvec3(), &lights);
+            let (colour, bound) = plain_shading(&surface, eye.as_dvec3(), &lights);
             for c in 0..3 {
                 assert!(
                     (shaded.colour[c] - colour[c]).abs() <= 1e-12 * colour[c].abs().max(1e-3),
                     "{shaded:?} vs {colour}"
                 );
             }
-            let bound = plain_bound(&surface, eye.as_dvec3(), &lights, colour);
             for c in 0..3 {
                 assert!((shaded.bound[c] - bound[c]).abs() <= 1e-9 * bound[c], "{:?} vs {bound:?}", shaded.bound);
             }

@@ -19,8 +19,9 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result, bail};
 use fragkit_report::AdapterDescription;
 use fragkit_report::expectations::Expectations;
+use fragkit_report::param_value::ParamValue;
 use fragkit_report::readable::counted;
-use fragkit_report::report::{CaseRecord, Report, ReportedOutcome};
+use fragkit_report::report::{CaseRecord, Report, ReportedOutcome, run_name};
 use fragkit_report::sink::Sink;
 use fragkit_report::skips::SkipList;
 
@@ -213,11 +214,10 @@ impl Schedule<'_, '_> {
             supervision.recorded.iter().map(|record| (record.run_name(), record)).collect();
         for (index, run) in self.runs.iter().enumerate() {
             let skipped = supervision.skips.reason(run.case.name, &adapter);
-            let unrun_record = |outcome, reason: &str| unrun(run, outcome, reason);
-            let key = unrun_record(ReportedOutcome::NotRun, "").run_name();
+            let key = run_name(run.case.name, &resolved_params(run));
             self.records[index] = match (recorded.remove(&key), skipped) {
                 (Some(record), _) => Some(record.clone()),
-                (None, Some(reason)) => Some(unrun_record(ReportedOutcome::Skip, &format!("skipped: {reason}"))),
+                (None, Some(reason)) => Some(unrun(run, ReportedOutcome::Skip, &format!("skipped: {reason}"))),
                 (None, None) => {
                     self.pending.push_back(index);
                     None
@@ -282,11 +282,15 @@ impl Schedule<'_, '_> {
     }
 }
 
+/// A case run's parameters, resolved as its record holds them (none where they do not resolve:
+/// the run itself then fails on them).
+fn resolved_params(run: &CaseRun) -> BTreeMap<String, ParamValue> {
+    Params::resolve(run.case.name, run.case.params, &run.overrides).map(|p| p.to_map()).unwrap_or_default()
+}
+
 /// The record of a case run that did not run, with its parameters.
 fn unrun(run: &CaseRun, outcome: ReportedOutcome, reason: &str) -> CaseRecord {
-    let params =
-        Params::resolve(run.case.name, run.case.params, &run.overrides).map(|p| p.to_map()).unwrap_or_default();
-    CaseRecord { params, ..CaseRecord::unmeasured(run.case.name, outcome, reason) }
+    CaseRecord { params: resolved_params(run), ..CaseRecord::unmeasured(run.case.name, outcome, reason) }
 }
 
 /// Runs `runs` in children of this program, `supervision.jobs` at once, handing every record to
@@ -529,10 +533,8 @@ fn death_record(
             ),
         ),
     };
-    let params =
-        Params::resolve(run.case.name, run.case.params, &run.overrides).map(|p| p.to_map()).unwrap_or_default();
     CaseRecord {
-        params,
+        params: resolved_params(run),
         diagnostics: stderr_tail.lines().map(str::to_owned).collect(),
         ..CaseRecord::unmeasured(run.case.name, outcome, &reason)
     }
