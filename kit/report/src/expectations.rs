@@ -352,4 +352,210 @@ mod tests {
         let error = format!("{:#}", Expectations::parse(&bad, "test").unwrap_err());
         assert!(error.contains("bad pattern \"[\" in the validation message"), "{error}");
     }
+
+    /// Property tests: which entries apply, and which explain a failure, against a plain reading
+    /// of each field — an absent glob matches anything; `*` any run of characters, `?` one,
+    /// anything else itself, letters in either case — with a glob matcher written out here.
+    mod plain_reading {
+        use proptest::prelude::*;
+
+        use super::super::*;
+
+        fn plain_glob(pattern: &[char], text: &[char]) -> bool {
+            match pattern.split_first() {
+                None => text.is_empty(),
+                Some(('*', rest)) => (0..=text.len()).any(|skip| plain_glob(rest, &text[skip..])),
+                Some((&p, rest)) => text.split_first().is_some_and(|(&t, text)| {
+                    (p == '?' || p.to_lowercase().eq(t.to_lowercase())) && plain_glob(rest, text)
+                }),
+            }
+        }
+
+        fn plain(pattern: &Option<String>, text: &str) -> bool {
+            pattern
+                .as_ref()
+                .is_none_or(|p| plain_glob(&p.chars().collect::<Vec<_>>(), &text.chars().collect::<Vec<_>>()))
+        }
+
+        // Each field's texts from a small pool, so that entries match as often as they miss.
+        const BACKENDS: &[&str] = &["vulkan", "gl"];
+        const NAMES: &[&str] = &["llvmpipe (LLVM 15.0.6, 256 bits)", "SwiftShader Device (Subzero)", "softpipe"];
+        const DRIVERS: &[&str] = &["llvmpipe", "softpipe", ""];
+        const DRIVER_INFOS: &[&str] = &["Mesa 22.3.6 (LLVM 15.0.6)", "4.5 (Core Profile) Mesa 22.3.6"];
+        const CASES: &[&str] = &["kit.msaa.sample_mask", "kit.msaa.sample_count", "oit.extremes"];
+        const PROBLEMS: &[&str] = &["wrong pixels: 12", "wrong samples: 3", "crash: signal 11"];
+
+        fn text(pool: &'static [&'static str]) -> impl Strategy<Value = String> {
+            proptest::sample::select(pool).prop_map(str::to_owned)
+        }
+
+        /// A text of the pool made a glob: characters turned to `*` or `?`, to the other case,
+        /// or dropped — near misses as well as matches. Each one `parse` accepts.
+        fn glob(pool: &'static [&'static str]) -> impl Strategy<Value = String> {
+            (text(pool), proptest::collection::vec((any::<prop::sample::Index>(), 0..4u8), 0..4)).prop_map(
+                |(text, edits)| {
+                    let mut chars: Vec<char> = text.chars().collect();
+                    for (at, edit) in edits {
+                        if chars.is_empty() {
+                            break;
+                        }
+                        let i = at.index(chars.len());
+                        match edit {
+                            0 => chars[i] = '*',
+                            1 => chars[i] = '?',
+                            2 => chars[i] = chars[i].to_ascii_uppercase(),
+                            _ => {
+                                chars.remove(i);
+                            }
+                        }
+                    }
+                    // `**` is the glob crate's path wildcard, which `parse` refuses outside a
+                    // path component of its own: one `*` for a run of them.
+                    chars.dedup_by(|a, b| *a == '*' && *b == '*');
+                    chars.into_iter().collect()
+                },
+            )
+        }
+
+        fn scope() -> impl Strategy<Value = [Option<String>; 4]> {
+            [
+                proptest::option::of(glob(BACKENDS)),
+                proptest::option::of(glob(NAMES)),
+                proptest::option::of(glob(DRIVERS)),
+                proptest::option::of(glob(DRIVER_INFOS)),
+            ]
+        }
+
+        fn issue() -> impl Strategy<Value = KnownIssue> {
+            (
+                proptest::collection::vec(glob(CASES), 1..3),
+                scope(),
+                proptest::option::of(glob(PROBLEMS)),
+                proptest::option::of(proptest::sample::select(
+                    &[FailureKind::Fail, FailureKind::Crash, FailureKind::Timeout][..],
+                )),
+            )
+                .prop_map(|(case, [backend, adapter, driver, driver_info], failure, outcome)| KnownIssue {
+                    case: CaseGlobs::Many(case),
+                    backend,
+                    adapter,
+                    driver,
+                    driver_info,
+                    failure,
+                    reason: "test".into(),
+                    may_pass: None,
+                    intermittent: None,
+                    outcome,
+                })
+        }
+
+        fn adapter() -> impl Strategy<Value = AdapterDescription> {
+            (text(BACKENDS), text(NAMES), text(DRIVERS), text(DRIVER_INFOS)).prop_map(
+                |(backend, name, driver, driver_info)| AdapterDescription {
+                    backend,
+                    name,
+                    driver,
+                    driver_info,
+                    device_type: "Cpu".into(),
+                },
+            )
+        }
+
+        fn applies(issue: &KnownIssue, case: &str, adapter: &AdapterDescription) -> bool {
+            issue.case.globs().iter().any(|glob| plain(&Some(glob.clone()), case))
+                && plain(&issue.backend, &adapter.backend)
+                && plain(&issue.adapter, &adapter.name)
+                && plain(&issue.driver, &adapter.driver)
+                && plain(&issue.driver_info, &adapter.driver_info)
+        }
+
+        proptest! {
+            #[test]
+            fn the_entries_found_are_those_whose_every_field_matches(
+                issues in proptest::collection::vec(issue(), 1..5),
+                case in text(CASES),
+                adapter in adapter(),
+            ) {
+                let expectations = Expectations { known_issues: issues, known_validation_messages: Vec::new() };
+                let found: Vec<*const KnownIssue> =
+                    expectations.find(&case, &adapter).into_iter().map(|i| i as *const _).collect();
+                let plainly: Vec<*const KnownIssue> = expectations
+                    .known_issues
+                    .iter()
+                    .filter(|issue| applies(issue, &case, &adapter))
+                    .map(|i| i as *const _)
+                    .collect();
+                prop_assert_eq!(found, plainly);
+            }
+
+            /// A failure is explained when each of its problems has an entry that applies, expects
+            /// its kind (or any) and whose failure glob matches that problem; the entries named are
+            /// each problem's first such, once each.
+            #[test]
+            fn a_failure_is_explained_when_every_problem_has_an_entry(
+                issues in proptest::collection::vec(issue(), 1..5),
+                case in text(CASES),
+                adapter in adapter(),
+                problems in proptest::collection::vec(text(PROBLEMS), 1..3),
+            ) {
+                let expectations = Expectations { known_issues: issues, known_validation_messages: Vec::new() };
+                let reason = problems.join("; ");
+                let kind = if reason.starts_with("crash:") { FailureKind::Crash } else { FailureKind::Fail };
+                let mut plainly: Option<Vec<*const KnownIssue>> = Some(Vec::new());
+                for problem in reason.split("; ") {
+                    let first = expectations.known_issues.iter().find(|issue| {
+                        applies(issue, &case, &adapter)
+                            && issue.outcome.is_none_or(|outcome| outcome == kind)
+                            && plain(&issue.failure, problem)
+                    });
+                    match (first, plainly.as_mut()) {
+                        (Some(issue), Some(used)) => {
+                            if !used.contains(&(issue as *const _)) {
+                                used.push(issue);
+                            }
+                        }
+                        _ => plainly = None,
+                    }
+                }
+                let explained = expectations
+                    .explain(&case, &adapter, &reason)
+                    .map(|used| used.into_iter().map(|i| i as *const _).collect::<Vec<_>>());
+                prop_assert_eq!(explained, plainly);
+            }
+
+            #[test]
+            fn a_validation_message_is_known_by_the_first_entry_whose_every_field_matches(
+                entries in proptest::collection::vec((glob(PROBLEMS), scope()), 1..5),
+                message in text(PROBLEMS),
+                adapter in adapter(),
+            ) {
+                let known_validation_messages: Vec<KnownValidationMessage> = entries
+                    .into_iter()
+                    .map(|(message, [backend, adapter, driver, driver_info])| KnownValidationMessage {
+                        message,
+                        backend,
+                        adapter,
+                        driver,
+                        driver_info,
+                        layer: "test".into(),
+                        reason: "test".into(),
+                    })
+                    .collect();
+                let expectations = Expectations { known_issues: Vec::new(), known_validation_messages };
+                let known = expectations.known_validation_message(&message, &adapter).map(|k| k as *const _);
+                let plainly = expectations
+                    .known_validation_messages
+                    .iter()
+                    .find(|k| {
+                        plain(&Some(k.message.clone()), &message)
+                            && plain(&k.backend, &adapter.backend)
+                            && plain(&k.adapter, &adapter.name)
+                            && plain(&k.driver, &adapter.driver)
+                            && plain(&k.driver_info, &adapter.driver_info)
+                    })
+                    .map(|k| k as *const _);
+                prop_assert_eq!(known, plainly);
+            }
+        }
+    }
 }

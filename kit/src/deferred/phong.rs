@@ -217,8 +217,10 @@ mod tests {
                 Light { position: Vec3::new(0.0, distance, 0.0), range: 2.0, colour: Vec3::ONE, intensity: 1e6 };
             shade(&surface_facing_up(), Vec3::new(0.0, 5.0, 0.0), &[light])
         };
-        // Exactly at its range the window is 0: nothing added either way.
+        // Exactly at its range the window is 0: nothing added either way, and no window error
+        // (a relative error of 1/window) left in the bound.
         assert_eq!(at(2.0).colour[0], ambient);
+        assert!(at(2.0).bound[0] < 1e-4, "{:?}", at(2.0).bound);
         // Within 2^-20 of the range the f32 comparison may go either way: the term is left out
         // of the colour and its whole size put in the bound.
         let edge = 2.0 * (1.0 - 2f32.powi(-21));
@@ -233,6 +235,55 @@ mod tests {
         let beyond = at(2.0 * (1.0 + 2f32.powi(-18)));
         assert_eq!(beyond.colour[0], ambient);
         assert!(beyond.bound[0] < 1e-4, "{beyond:?}");
+    }
+
+    /// A light within the ambiguity of its range leaves its whole term — diffuse and specular —
+    /// open in the bound.
+    #[test]
+    fn a_light_at_its_range_leaves_its_diffuse_and_specular_open() {
+        let surface = Surface { albedo: [0.5, 0.5, 0.5, 1.0], normal: [0.0, 1.0, 0.0, 1.0], ..surface_facing_up() };
+        // The light overhead at its range, the eye along the surface: h at 45°, n·h = 1/√2.
+        let edge = 2.0 * (1.0 - 2f32.powi(-21));
+        // Bright enough that the term (window² ≈ 2^-40) outweighs the stored value's f16 ulp.
+        let light = Light { position: Vec3::new(0.0, edge, 0.0), range: 2.0, colour: Vec3::ONE, intensity: 1e12 };
+        let shaded = shade(&surface, Vec3::new(5.0, 0.0, 0.0), &[light]);
+        let d = f64::from(edge);
+        let radiance = f64::from(1e12f32) * (1.0 - (d / 2.0).powi(2)).powi(2) / (1.0 + d * d);
+        let open = radiance * 0.5 + radiance * std::f64::consts::FRAC_1_SQRT_2;
+        // The term's own error beside it: f32's, pow's, and the window's 2^-21 / window (1/2 here).
+        let window = 1.0 - (d / 2.0).powi(2);
+        let relative = 2f64.powi(-18) + 2f64.powi(-21) * std::f64::consts::LN_2 + 2f64.powi(-21) / window;
+        let inner = open * (1.0 + relative);
+        let expected = inner + f16_ulp(0.015 + inner);
+        assert_eq!(shaded.colour[0], 0.015);
+        assert!(
+            (shaded.bound[0] - expected).abs() <= 1e-6 * expected,
+            "{:?} against the term {open} and its error {relative}",
+            shaded.bound
+        );
+    }
+
+    /// A light exactly in the surface's plane (n·l = 0, a decision the f32 dot product may take
+    /// either way) adds no diffuse and leaves its specular open in the bound; the stored value's
+    /// f16 ulp is that of the colour plus its bound.
+    #[test]
+    fn a_grazing_light_leaves_its_specular_open() {
+        let surface = Surface { albedo: [0.5, 0.5, 0.5, 1.0], normal: [0.0, 1.0, 0.0, 2.0], ..surface_facing_up() };
+        // Light at distance 1 along x, range 2: window 3/4, attenuation (3/4)² / 2. The eye
+        // straight above: h at 45°, highlight (1/√2)² = 1/2.
+        let specular = |intensity: f64| intensity * 0.75f64.powi(2) / 2.0 * 0.5;
+        let intensity = 0.99 / specular(1.0);
+        let light = Light { position: Vec3::X, range: 2.0, colour: Vec3::ONE, intensity: intensity as f32 };
+        let shaded = shade(&surface, Vec3::new(0.0, 100.0, 0.0), &[light]);
+        let open = specular(f64::from(intensity as f32));
+        assert_eq!(shaded.colour[0], 0.015);
+        // 0.015 + 0.99 lies in [1, 2): one f16 ulp there is 2^-10 (below 1 it would be 2^-11).
+        let stored = 2f64.powi(-10);
+        assert!(
+            shaded.bound[0] >= open + stored && shaded.bound[0] <= open + stored + 1e-6,
+            "{:?} against the specular {open} and the f16 ulp {stored}",
+            shaded.bound
+        );
     }
 
     #[test]

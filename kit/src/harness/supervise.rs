@@ -55,7 +55,7 @@ impl CaseTimeout {
     pub fn of(self, case: &Case) -> Duration {
         match self {
             Self::Fixed(timeout) => timeout,
-            Self::FromBudget => SHORTEST.max(Duration::from_secs(u64::from(BUDGET_FACTOR * case.budget_s))),
+            Self::FromBudget => SHORTEST.max(Duration::from_secs(u64::from(BUDGET_FACTOR) * u64::from(case.budget_s))),
         }
     }
 
@@ -552,6 +552,19 @@ mod tests {
         assert_eq!([1, 3, 4, 60].map(|b| of(CaseTimeout::FromBudget, b)), [30, 30, 40, 600]);
         assert_eq!(of(CaseTimeout::Fixed(Duration::from_secs(7)), 60), 7);
         assert_eq!(CaseTimeout::FromBudget.origin(&budget(4)), "10× the case's budget of 4 s, at least 30 s");
+    }
+
+    proptest::proptest! {
+        /// Against the definition read plainly, at any budget (no overflow at u32's top) and any
+        /// fixed timeout: from the budget, ten budgets or 30 s, whichever is longer; fixed, the
+        /// one given whatever the budget.
+        #[test]
+        fn a_cases_timeout_is_its_definition_at_any_budget(budget_s: u32, fixed_s: u64) {
+            let case = Case { budget_s, ..Case::passing("kit.a") };
+            let from_budget = CaseTimeout::FromBudget.of(&case).as_secs();
+            proptest::prop_assert_eq!(from_budget, (10 * u64::from(budget_s)).max(30));
+            proptest::prop_assert_eq!(CaseTimeout::Fixed(Duration::from_secs(fixed_s)).of(&case).as_secs(), fixed_s);
+        }
     }
 
     /// A killed parent leaves its stream behind; a new parent with its process id starts empty.

@@ -125,9 +125,24 @@ mod tests {
         assert_eq!(at(6.0, 2.0), []);
         assert_eq!(at(5.0, 3.0), []);
         assert_eq!(at(1.0, 4.0), []);
+        // Above the small quads' top edge (pixel row 1).
+        assert_eq!(at(3.0, 0.5), [(500, 0)]);
+        assert_eq!(at(4.0, 0.5), []);
         // A pixel is the mean of its samples: one sample in the red quad alone, one in none.
         let image = exact_image(&scene, (8, 4), &[[0.5, 0.5], [7.0, 0.5]]);
         assert_eq!(image[0], [0.25, 0.0, 0.0]);
+    }
+
+    /// A quad's depth is linear across its own pixel rect, whichever column that rect starts at.
+    #[test]
+    fn depth_runs_from_the_left_edge_to_the_right_one() {
+        // On 8×2 pixels, the right half (x 4..8) from depth 0.2 to 0.6.
+        let scene =
+            QuadScene { name: "test".into(), quads: vec![quad([0.0, 1.0, 1.0, -1.0], (0.2, 0.6), 0.5, [1.0; 3], 0)] };
+        let depth = |x: f32| covering(&scene, (8, 2), x, 1.0)[0].0;
+        for (x, expected) in [(4.0, 0.2), (6.0, 0.4), (7.0, 0.5)] {
+            assert!((depth(x) - expected).abs() < 1e-6, "depth {} at x = {x}", depth(x));
+        }
     }
 
     #[test]
@@ -136,6 +151,7 @@ mod tests {
         let reference = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0]];
         assert!((rmse(&image, &reference) - (1.25f64 / 6.0).sqrt()).abs() < 1e-12);
         assert_eq!(rmse(&reference, &reference), 0.0);
+        assert_eq!(rmse(&image, &image), 0.0);
         assert_eq!(rmse(&[], &[]), 0.0);
     }
 }
