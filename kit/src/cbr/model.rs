@@ -396,3 +396,270 @@ impl<'a> ReconstructionModel<'a> {
         Ok(Decision::History(history))
     }
 }
+
+/// Each rule of reconstruct.wgsl on an 8×8 screen, the expected pixels worked out by hand from the
+/// sample placement: phase 0 (even frames) samples the pixels with x + y even, phase 1 those with
+/// x + y odd except the first column (the gap).
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+
+    const SCREEN: (u32, u32) = (8, 8);
+    const B: [f32; 3] = [0.2, 0.4, 0.6];
+    const R: [f32; 3] = [0.8, 0.1, 0.3];
+    const CSO: Detection = Detection::Cso { tolerance: 0.05 };
+
+    fn backdrop() -> PixelRect {
+        PixelRect::opaque([-16, -16, 24, 24], 40.0, B)
+    }
+
+    fn pan(x: f32) -> CameraMotion {
+        CameraMotion { pan_pixels: Vec2::new(x, 0.0), travel: Vec3::ZERO }
+    }
+
+    fn frame(rects: &[PixelRect], camera: CameraMotion, detection: Detection, frame: u32) -> Vec<Expected> {
+        ReconstructionModel::new(rects, camera, SCREEN, detection).unwrap().frame(frame)
+    }
+
+    fn at(pixels: &[Expected], x: usize, y: usize) -> Expected {
+        pixels[y * 8 + x]
+    }
+
+    fn source(pixels: &[Expected], x: usize, y: usize) -> Result<PixelSource, &'static str> {
+        match at(pixels, x, y) {
+            Expected::Known { source, .. } => Ok(source),
+            Expected::Unknowable(reason) => Err(reason),
+        }
+    }
+
+    fn f64s(colour: [f32; 3]) -> [f64; 3] {
+        colour.map(f64::from)
+    }
+
+    /// The fill's definition: each neighbour compressed by 1 / (1 + its largest component), the
+    /// mean expanded by 1 / (1 − its largest).
+    fn fill(neighbours: &[[f32; 3]]) -> [f64; 3] {
+        let compressed = neighbours.iter().map(|c| {
+            let c = f64s(*c);
+            c.map(|v| v / (1.0 + c[0].max(c[1]).max(c[2])))
+        });
+        let mut mean = [0.0; 3];
+        for c in compressed {
+            (0..3).for_each(|i| mean[i] += c[i] / neighbours.len() as f64);
+        }
+        mean.map(|v| v / (1.0 - mean[0].max(mean[1]).max(mean[2])))
+    }
+
+    fn assert_known(pixel: Expected, source: PixelSource, colour: [f64; 3], tolerance: f64) {
+        let Expected::Known { source: s, colour: c, tolerance: t } = pixel else {
+            panic!("{pixel:?}: expected {source:?}")
+        };
+        assert_eq!(s, source, "{pixel:?}");
+        assert!((0..3).all(|i| (c[i] - colour[i]).abs() < 1e-12), "{c:?} against {colour:?}");
+        // Relative: the albedos are f32.
+        assert!((t - tolerance).abs() < 1e-6 * tolerance, "tolerance {t} against {tolerance}");
+    }
+
+    #[test]
+    fn a_still_scene_shows_its_samples_fills_frame_zero_and_keeps_its_history() {
+        let rects = [backdrop(), PixelRect::opaque([2, 2, 6, 6], 10.0, R)];
+        let zero = frame(&rects, CameraMotion::default(), CSO, 0);
+        // Sampled: the colour, within 4 f16 roundings of its largest component.
+        assert_known(at(&zero, 2, 2), PixelSource::Current, f64s(R), 0.8 / 512.0);
+        assert_known(at(&zero, 0, 0), PixelSource::Current, f64s(B), 0.6 / 512.0);
+        // Missing in frame 0: its four neighbours (2,2), (4,2) and (3,3) red, (3,1) the backdrop,
+        // filled; the fill's tolerance grows through the compression (2) and expansion (1.8²).
+        let tolerance = 0.8 / 512.0 * (2.0 * 1.8 * 1.8 + 1.0);
+        assert_known(at(&zero, 3, 2), PixelSource::FirstFrame, fill(&[R, R, B, R]), tolerance);
+        assert_known(at(&zero, 1, 0), PixelSource::FirstFrame, f64s(B), 0.6 / 512.0 * (2.0 * 1.6 * 1.6 + 1.0));
+
+        let one = frame(&rects, CameraMotion::default(), CSO, 1);
+        assert_known(at(&one, 3, 2), PixelSource::Current, f64s(R), 0.8 / 512.0);
+        // Missing in frame 1, sampled in frame 0 where nothing moved: the history.
+        assert_known(at(&one, 2, 2), PixelSource::History, f64s(R), 0.8 / 512.0);
+        assert_known(at(&one, 0, 2), PixelSource::History, f64s(B), 0.6 / 512.0);
+        // The gap: no neighbour of frame 1 sampled, nothing in frame 0 either — the background.
+        assert_known(at(&one, 0, 1), PixelSource::OffScreen, BACKGROUND, 0.035 / 512.0);
+        assert_known(at(&one, 0, 5), PixelSource::OffScreen, BACKGROUND, 0.035 / 512.0);
+    }
+
+    /// A pan of one quarter-resolution pixel: the history is where the content was, judged by
+    /// depth under CSO, assumed missing under ASO; history off the screen is filled.
+    #[test]
+    fn a_pan_takes_history_from_where_the_content_was() {
+        let rects = [backdrop(), PixelRect::opaque([2, 2, 6, 6], 10.0, R)];
+        let cso = frame(&rects, pan(2.0), CSO, 1);
+        // (6, 4) and (7, 3) show the red rect now (at [4, 8)) among red neighbours; frame 0
+        // showed it two pixels left.
+        assert_known(at(&cso, 6, 4), PixelSource::History, f64s(R), 0.8 / 512.0);
+        assert_known(at(&cso, 7, 3), PixelSource::History, f64s(R), 0.8 / 512.0);
+        // At its left edge the neighbours' mean depth (40 + 3 · 10) / 4 is far from the history's.
+        assert_eq!(source(&cso, 4, 4), Ok(PixelSource::Disoccluded));
+        assert_eq!(source(&cso, 0, 2), Ok(PixelSource::OffScreen));
+        assert_eq!(source(&cso, 1, 1), Ok(PixelSource::OffScreen));
+        let aso = frame(&rects, pan(2.0), Detection::Aso, 1);
+        assert_eq!(source(&aso, 6, 4), Ok(PixelSource::Assumed));
+        assert_eq!(source(&aso, 0, 2), Ok(PixelSource::OffScreen));
+        // Frame 0 is its own predecessor: no motion, the first frame's fill.
+        assert_eq!(source(&frame(&rects, pan(2.0), CSO, 0), 3, 2), Ok(PixelSource::FirstFrame));
+        // Frame 2 (phase 0 again, the rect at [6, 10)) takes its history from frame 1's samples.
+        let two = frame(&rects, pan(2.0), CSO, 2);
+        assert_known(at(&two, 6, 2), PixelSource::Current, f64s(R), 0.8 / 512.0);
+        assert_known(at(&two, 7, 4), PixelSource::History, f64s(R), 0.8 / 512.0);
+        assert_known(at(&two, 3, 2), PixelSource::History, f64s(B), 0.6 / 512.0);
+    }
+
+    /// A pan of one full-resolution pixel lands each missing pixel on one that frame N sampled:
+    /// no pixel of frame N−1 lies within half a pixel (and the slack).
+    #[test]
+    fn a_one_pixel_pan_cancels_the_jitter() {
+        let one = frame(&[backdrop()], pan(1.0), CSO, 1);
+        for (x, y) in [(2, 2), (4, 4), (3, 5), (7, 1)] {
+            assert_eq!(source(&one, x, y), Ok(PixelSource::JitterCancelled), "({x}, {y})");
+        }
+        // Half a pixel and a little: the neighbour within the slack; short of half: the texel.
+        assert_eq!(source(&frame(&[backdrop()], pan(0.5 + 1.0 / 128.0), CSO, 1), 4, 4), Ok(PixelSource::History));
+        assert_eq!(source(&frame(&[backdrop()], pan(0.25), CSO, 1), 4, 4), Ok(PixelSource::History));
+    }
+
+    /// Where the motion lies within its rounding of ASO's quarter-pixel threshold (2 − 1/64) the
+    /// decision is open; clearly short of it, the history.
+    #[test]
+    fn a_motion_at_a_decision_boundary_leaves_the_pixel_open() {
+        let rects = [backdrop()];
+        assert_eq!(source(&frame(&rects, pan(2.0 - 1.0 / 64.0), Detection::Aso, 1), 4, 4), Err(NEAR_A_DECISION));
+        assert_eq!(source(&frame(&rects, pan(2.0 - 1.0 / 16.0), Detection::Aso, 1), 4, 4), Ok(PixelSource::History));
+        assert_eq!(source(&frame(&rects, pan(2.0 + 1.0 / 16.0), Detection::Aso, 1), 4, 4), Ok(PixelSource::Assumed));
+    }
+
+    /// An object moving two pixels right over a still backdrop: behind it the history moved with
+    /// the object and this pixel does not (stale); on it, CSO compares the history's depth with
+    /// the neighbours' mean (10 against (40 + 10 + 40 + 10) / 4 = 25).
+    #[test]
+    fn a_moving_object_leaves_stale_history_behind_and_is_judged_by_depth_on_it() {
+        let rects = [backdrop(), PixelRect::opaque([2, 2, 4, 6], 10.0, R).moving(Vec2::new(2.0, 0.0))];
+        let one = frame(&rects, CameraMotion::default(), CSO, 1);
+        assert_known(
+            at(&one, 2, 2),
+            PixelSource::Disoccluded,
+            fill(&[B, B, B, B]),
+            0.6 / 512.0 * (2.0 * 1.6 * 1.6 + 1.0),
+        );
+        // |10 − 25| = 15 against 0.05 · 25: stale; against 0.9 · 25: kept.
+        assert_eq!(source(&one, 4, 2), Ok(PixelSource::Disoccluded));
+        let lenient = frame(&rects, CameraMotion::default(), Detection::Cso { tolerance: 0.9 }, 1);
+        assert_known(at(&lenient, 4, 2), PixelSource::History, f64s(R), 0.8 / 512.0);
+        // Still pixels far from it keep theirs.
+        assert_known(at(&one, 6, 6), PixelSource::History, f64s(B), 0.6 / 512.0);
+    }
+
+    /// Pixel (6, 2) in frame 1 of a two-pixel pan: neighbours A (10 m) at (5, 2), (6, 1), (6, 3)
+    /// and B (20 m) at (7, 2), mean 12.5; the history shows A: |10 − 12.5| = 2.5 = 0.2 · 12.5.
+    #[test]
+    fn a_depth_difference_at_the_tolerance_leaves_the_pixel_open() {
+        let rects = [PixelRect::opaque([-16, -16, 5, 24], 10.0, R), PixelRect::opaque([5, -16, 24, 24], 20.0, B)];
+        let with = |tolerance| source(&frame(&rects, pan(2.0), Detection::Cso { tolerance }, 1), 6, 2);
+        assert_eq!(with(0.2), Err(NEAR_THE_TOLERANCE));
+        assert_eq!(with(0.1), Ok(PixelSource::Disoccluded));
+        assert_eq!(with(0.3), Ok(PixelSource::History));
+    }
+
+    /// Two surfaces at one depth meet at (4, 2): which one's motion stands in is open.
+    #[test]
+    fn neighbours_tied_in_depth_leave_the_pixel_open() {
+        let rects = [PixelRect::opaque([-16, -16, 4, 24], 20.0, R), PixelRect::opaque([4, -16, 24, 24], 20.0, B)];
+        assert_eq!(source(&frame(&rects, CameraMotion::default(), CSO, 1), 4, 2), Err(FRONT_TIE));
+        // Frame 0 fills without motion, so no tie matters there.
+        assert_eq!(source(&frame(&rects, CameraMotion::default(), CSO, 0), 4, 1), Ok(PixelSource::FirstFrame));
+        let apart = [PixelRect::opaque([-16, -16, 4, 24], 20.0, R), PixelRect::opaque([4, -16, 24, 24], 21.0, B)];
+        assert_eq!(source(&frame(&apart, CameraMotion::default(), CSO, 1), 4, 2), Ok(PixelSource::History));
+    }
+
+    /// An edge within 1/8 pixel of a sample centre (the 4 sub-pixel bits at quarter resolution)
+    /// leaves what the sample shows open — unless a nearer surface hides it.
+    #[test]
+    fn an_edge_near_a_sample_centre_leaves_it_open_unless_hidden() {
+        // Moving 0.45 a frame: in frame 1 the left edge lies at 2.45, 0.05 from column 2's centres.
+        let rect = PixelRect::opaque([2, 2, 6, 6], 20.0, R).moving(Vec2::new(0.45, 0.0));
+        let one = frame(&[backdrop(), rect], CameraMotion::default(), CSO, 1);
+        assert_eq!(source(&one, 2, 3), Err(NEAR_AN_EDGE));
+        // Missing, with that pixel among its neighbours.
+        assert_eq!(source(&one, 2, 4), Err(NEAR_AN_EDGE));
+        assert_eq!(source(&one, 3, 4), Ok(PixelSource::Current));
+        // Under a nearer surface the open edge behind changes nothing.
+        let cover = PixelRect::opaque([0, 0, 8, 8], 5.0, B);
+        assert_eq!(
+            source(&frame(&[backdrop(), rect, cover], CameraMotion::default(), CSO, 1), 2, 3),
+            Ok(PixelSource::Current)
+        );
+        // Far (0.55) from the edge the sample is known; exactly on a corner, open.
+        let alone = [rect];
+        let model = ReconstructionModel::new(&alone, CameraMotion::default(), SCREEN, CSO).unwrap();
+        assert_eq!(model.covers(0, 1, 3, 3), Some(true));
+        assert_eq!(model.covers(0, 1, 1, 3), Some(false));
+        assert_eq!(model.covers(0, 1, 2, 3), None);
+        assert_eq!(model.covers(0, 1, 5, 3), Some(true));
+        assert_eq!(model.covers(0, 1, 6, 3), None, "the right edge at 6.45");
+        assert_eq!(model.covers(0, 1, 7, 3), Some(false));
+        // The bottom edge: a rect moving down 0.4 a frame has it at 6.4 in frame 1.
+        let down = PixelRect::opaque([2, 2, 6, 6], 20.0, R).moving(Vec2::new(0.0, 0.4));
+        let down = [down];
+        let model = ReconstructionModel::new(&down, CameraMotion::default(), SCREEN, CSO).unwrap();
+        assert_eq!(model.covers(0, 1, 3, 6), None);
+        assert_eq!(model.covers(0, 1, 3, 5), Some(true));
+        assert_eq!(model.covers(0, 1, 3, 2), None, "the top edge at 2.4");
+        assert_eq!(model.covers(0, 1, 3, 7), Some(false));
+    }
+
+    /// Transparents in front of the opaque surface composite over it far to near; one behind it
+    /// adds nothing, and the rounding bound follows the largest albedo composited.
+    #[test]
+    fn transparents_in_front_composite_far_to_near() {
+        let far = PixelRect::opaque([0, 0, 8, 8], 20.0, [0.0, 0.0, 1.0]).transparent(0.5);
+        let near = PixelRect::opaque([0, 0, 8, 8], 10.0, [1.0, 0.0, 0.0]).transparent(0.25);
+        let behind = PixelRect::opaque([0, 0, 8, 8], 50.0, [0.0, 1.0, 0.0]).transparent(0.5);
+        let zero = frame(&[near, backdrop(), behind, far], CameraMotion::default(), CSO, 0);
+        let b = f64s(B);
+        let under = [b[0] * 0.5, b[1] * 0.5, b[2] * 0.5 + 0.5];
+        let over = [under[0] * 0.75 + 0.25, under[1] * 0.75, under[2] * 0.75];
+        assert_known(at(&zero, 2, 2), PixelSource::Current, over, 1.0 / 512.0);
+        // A transparent whose edge is open in front of the surface leaves the sample open.
+        let edge = PixelRect::opaque([2, 0, 8, 8], 10.0, R).transparent(0.5).moving(Vec2::new(0.45, 0.0));
+        let one = frame(&[backdrop(), edge], CameraMotion::default(), CSO, 1);
+        assert_eq!(source(&one, 2, 3), Err(NEAR_AN_EDGE));
+        assert_eq!(source(&one, 4, 3), Ok(PixelSource::Current));
+    }
+
+    /// Each rect's image moves by its velocity, the pan, and the parallax of sideways travel
+    /// (focal / distance pixels a metre: against the travel in x, along it in y, y down).
+    #[test]
+    fn images_move_by_velocity_pan_and_parallax() {
+        let focal = focal_pixels(SCREEN);
+        assert!((focal - 4.0 / 0.5f64.tan()).abs() < 1e-12);
+        let rects = [PixelRect::opaque([1, 2, 3, 4], 8.0, R).moving(Vec2::new(0.5, -1.0))];
+        let camera = CameraMotion { pan_pixels: Vec2::new(2.0, 3.0), travel: Vec3::new(0.25, 0.5, 0.0) };
+        let model = ReconstructionModel::new(&rects, camera, SCREEN, CSO).unwrap();
+        let [dx, dy] = [0.5 + 2.0 - 0.25 * focal / 8.0, -1.0 + 3.0 + 0.5 * focal / 8.0];
+        let edges = model.edges(0, 3);
+        let expected = [1.0 + 3.0 * dx, 2.0 + 3.0 * dy, 3.0 + 3.0 * dx, 4.0 + 3.0 * dy];
+        assert!((0..4).all(|i| (edges[i] - expected[i]).abs() < 1e-9), "{edges:?} against {expected:?}");
+        assert!(model.objects_move && model.camera_moves);
+        let backdrop = [backdrop()];
+        let still = ReconstructionModel::new(&backdrop, CameraMotion::default(), SCREEN, CSO).unwrap();
+        assert!(!still.objects_move && !still.camera_moves);
+        let forward = CameraMotion { pan_pixels: Vec2::ZERO, travel: Vec3::new(0.0, 0.0, 1.0) };
+        assert!(ReconstructionModel::new(&rects, forward, SCREEN, CSO).is_err());
+    }
+
+    /// The rounding bounds: motion 2^-10 of (1 + length); a stored colour 2^-9 of its peak (never
+    /// 0); the fill's growth through compression and expansion.
+    #[test]
+    fn rounding_bounds_follow_their_definitions() {
+        assert_eq!(motion_precision(3.0), 4.0 / 1024.0);
+        assert_eq!(stored_tolerance(2.0), 2.0 / 512.0);
+        assert_eq!(stored_tolerance(0.0), f64::from(f32::MIN_POSITIVE) / 512.0);
+        assert_eq!(fill_tolerance(1.0), 1.0 / 512.0 * 9.0);
+    }
+}
