@@ -70,3 +70,54 @@ impl Comparison {
         Ok(side_by_side(&result, &reference, &error_mask(&reference, &self.wrong)))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cbr::model::NEAR_AN_EDGE;
+
+    /// A frame of four pixels (2×2): each known pixel passes only with the model's source and
+    /// every channel within the tolerance; one channel out, or the wrong source, fails it and
+    /// names it; what the model cannot know is counted by reason and never judged.
+    #[test]
+    fn a_pixel_passes_with_the_models_source_and_every_channel_within_its_tolerance() {
+        let known = |source, colour| Expected::Known { source, colour, tolerance: 0.01 };
+        let expected = [
+            known(PixelSource::Current, [0.5, 0.5, 0.5]),
+            known(PixelSource::History, [0.2, 0.4, 0.6]),
+            Expected::Unknowable(NEAR_AN_EDGE),
+            known(PixelSource::History, [1.0, 0.0, 0.0]),
+        ];
+        let colours = [
+            [0.509, 0.491, 0.5, 1.0], // within in every channel
+            [0.2, 0.4, 0.62, 1.0],    // blue out by 0.02
+            [9.0, 9.0, 9.0, 1.0],     // unknowable: anything goes
+            [1.0, 0.0, 0.0, 1.0],     // right colour, wrong source
+        ]
+        .concat();
+        let sources = [PixelSource::Current, PixelSource::History, PixelSource::Current, PixelSource::Disoccluded];
+        let comparison = Comparison::of(&expected, &colours, &sources, 2);
+        assert_eq!(comparison.wrong, [false, true, false, true]);
+        assert_eq!(comparison.differences.len(), 2);
+        assert!(comparison.differences[0].starts_with("(1, 0) from history shows"), "{:?}", comparison.differences);
+        assert_eq!(comparison.differences[1], "(1, 1) disoccluded where the model says history");
+        let tally: Vec<(&str, u64)> = comparison.tally.iter().map(|(k, v)| (*k, *v)).collect();
+        assert_eq!(tally, [("current", 1), ("history", 2), (NEAR_AN_EDGE, 1)]);
+        assert_eq!(comparison.known_sources().collect::<Vec<_>>(), ["current", "history"]);
+        // Each channel alone out of bounds fails; a NaN fails.
+        for c in 0..3 {
+            let mut colours = [0.5f32, 0.5, 0.5, 1.0];
+            colours[c] += 0.011;
+            let one = Comparison::of(&expected[..1], &colours, &sources[..1], 1);
+            assert_eq!(one.wrong, [true], "channel {c}");
+        }
+        let nan = Comparison::of(&expected[..1], &[0.5, f32::NAN, 0.5, 1.0], &sources[..1], 1);
+        assert_eq!(nan.wrong, [true]);
+        // The evidence: result, model (black where unknowable), the mask red where wrong.
+        let image = comparison.evidence((2, 2), &expected, &colours).unwrap();
+        assert_eq!(image.dimensions(), (6, 2));
+        assert_eq!(image.get_pixel(2, 1).0, [0, 0, 0, 255]);
+        assert_eq!(image.get_pixel(5, 0).0, [255, 0, 0, 255]);
+        assert_ne!(image.get_pixel(4, 0).0, [255, 0, 0, 255]);
+    }
+}

@@ -426,5 +426,202 @@ mod tests {
         let levels = albedo_map_levels();
         assert_eq!(levels.len(), ALBEDO_MAP_SIZE.trailing_zeros() as usize + 1);
         assert_eq!(levels.last().unwrap().len(), 1);
+        // Each level is the rounded mean of the 2×2 texels above it.
+        for (level, above) in levels.iter().skip(1).zip(&levels) {
+            let side = (level.len() as f64).sqrt() as usize;
+            assert_eq!(side * side * 4, above.len());
+            for (i, texel) in level.iter().enumerate() {
+                let (x, y) = (i % side, i / side);
+                for c in 0..4 {
+                    let sum: f64 = [(0, 0), (1, 0), (0, 1), (1, 1)]
+                        .iter()
+                        .map(|(dx, dy)| f64::from(above[(2 * y + dy) * 2 * side + 2 * x + dx][c]))
+                        .sum();
+                    assert_eq!(f64::from(texel[c]), (sum / 4.0 + 0.5).floor(), "level of side {side}, texel {i}");
+                }
+            }
+        }
+    }
+
+    /// The top level: mortar lines two texels wide every 32, offset by half a tile in every other
+    /// column of tiles, at 0.35; a tile's texel at 0.65 + 0.25 tile + 0.1 grain; the channels
+    /// scaled by (1, 0.95, 0.85), opaque.
+    #[test]
+    fn the_albedo_map_is_tiles_with_mortar_and_grain() {
+        let top = &albedo_map_levels()[0];
+        let texel = |x: u32, y: u32| top[(y * ALBEDO_MAP_SIZE + x) as usize];
+        let byte = |value: f32, scale: f32| (value * scale * 255.0).round() as u8;
+        let mortar = [byte(0.35, 1.0), byte(0.35, 0.95), byte(0.35, 0.85), 255];
+        for (x, y) in [(0, 5), (1, 5), (32, 5), (5, 0), (5, 1), (5, 33), (40, 16), (40, 17), (100, 48)] {
+            assert_eq!(texel(x, y), mortar, "({x}, {y}) is mortar");
+        }
+        for (x, y) in [(2, 5), (5, 2), (40, 0), (40, 14), (8, 16), (31, 31)] {
+            let grain = crate::scene::hash::hash_unit(y * ALBEDO_MAP_SIZE + x);
+            let tile = crate::scene::hash::hash_unit(0x9e37 + (y / 32) * 8 + x / 32);
+            let value = 0.65 + 0.25 * tile + 0.1 * grain;
+            assert_eq!(texel(x, y), [byte(value, 1.0), byte(value, 0.95), byte(value, 0.85), 255], "({x}, {y})");
+        }
+    }
+
+    /// Projects a point to full-resolution pixels (y down) and its distance from the camera.
+    fn to_pixels(view: &FrameView, screen: (u32, u32), p: Vec3) -> (f32, f32) {
+        let ndc = view.full_from_world.project_point3(p);
+        ((ndc.x + 1.0) * 0.5 * screen.0 as f32, (1.0 - ndc.y) * 0.5 * screen.1 as f32)
+    }
+
+    /// Each rect is one draw of two counter-clockwise triangles over exactly its pixel rect at
+    /// its distance, facing the camera, unlit (shininess −1), its opacity in albedo's w; opaque
+    /// draws front to back, then transparents back to front; a rect's velocity moves it that
+    /// many pixels a frame.
+    #[test]
+    fn a_pixel_rect_scene_draws_each_rect_where_and_as_it_is_given() {
+        let screen = (40, 30);
+        let rects = [
+            PixelRect::opaque([0, 0, 40, 30], 30.0, [0.1, 0.2, 0.3]),
+            PixelRect::opaque([2, 3, 12, 9], 5.0, [0.4, 0.5, 0.6]).moving(Vec2::new(1.5, -2.0)),
+            PixelRect::opaque([20, 4, 30, 20], 8.0, [0.7, 0.8, 0.9]).transparent(0.25),
+            PixelRect::opaque([22, 6, 24, 8], 12.0, [0.3, 0.3, 0.3]).transparent(0.5),
+            PixelRect::opaque([5, 5, 6, 6], 20.0, [1.0, 0.0, 0.0]),
+        ];
+        let scene = pixel_rect_scene("test", screen, &rects, CameraMotion::default());
+        assert_eq!(scene.name, "test");
+        // Drawn: opaque 5 m, 20 m, 30 m; transparent 12 m, 8 m.
+        let order = [1, 4, 0, 3, 2];
+        assert_eq!(scene.draws.len(), 5);
+        let view = scene.frame_view(0, screen);
+        for (draw, &r) in scene.draws.iter().zip(&order) {
+            let rect = &rects[r];
+            assert_eq!(draw.vertices.len(), 6);
+            assert_eq!(draw.transparent, rect.is_transparent());
+            let vertices = &scene.vertices[draw.vertices.start as usize..draw.vertices.end as usize];
+            let (x0, y0, x1, y1) = (rect.x0 as f32, rect.y0 as f32, rect.x1 as f32, rect.y1 as f32);
+            // Bottom-left, bottom-right, top-right twice as two triangles (a, b, c), (a, c, d).
+            let expected = [(x0, y1), (x1, y1), (x1, y0), (x0, y1), (x1, y0), (x0, y0)];
+            for (v, (ex, ey)) in vertices.iter().zip(expected) {
+                let p = Vec3::from_array(v.position);
+                let (x, y) = to_pixels(&view, screen, p);
+                assert!((x - ex).abs() < 1e-3 && (y - ey).abs() < 1e-3, "rect {r}: ({x}, {y}) against ({ex}, {ey})");
+                assert!((-p.z - rect.distance).abs() < 1e-4 * rect.distance, "rect {r} at {}", -p.z);
+                assert_eq!(v.normal, [0.0, 0.0, 1.0]);
+                assert_eq!(v.albedo, [rect.albedo[0], rect.albedo[1], rect.albedo[2], rect.opacity]);
+                assert_eq!((v.shininess, v.texture_scale), (-1.0, 0.0));
+            }
+            // The velocity in world units moves the rect's image by its pixel velocity.
+            let p = Vec3::from_array(vertices[0].position);
+            let (ax, ay) = to_pixels(&view, screen, p);
+            let (bx, by) = to_pixels(&view, screen, p + draw.velocity * 2.0);
+            let moved = Vec2::new(bx - ax, by - ay);
+            assert!((moved - rect.velocity * 2.0).length() < 1e-3, "rect {r} moved {moved}");
+        }
+        assert!(scene.objects_move() && scene.has_transparents() && !scene.camera_moves());
+        let still = pixel_rect_scene("still", screen, &rects[..1], CameraMotion::default());
+        assert!(!still.objects_move() && !still.has_transparents());
+    }
+
+    /// Frame N's view: the camera travelled N times its travel and panned N times its pan; each
+    /// draw moved N times its velocity, and the previous view is frame N − 1's (frame 0's own).
+    #[test]
+    fn a_frame_view_moves_camera_and_draws_by_the_frame_number() {
+        let screen = (64, 32);
+        let rects = [PixelRect::opaque([8, 8, 16, 16], 10.0, [0.5; 3]).moving(Vec2::new(2.0, 1.0))];
+        let camera_motion = CameraMotion { pan_pixels: Vec2::new(1.0, -0.5), travel: Vec3::new(0.2, -0.1, 0.0) };
+        let scene = pixel_rect_scene("test", screen, &rects, camera_motion);
+        assert!(scene.camera_moves());
+        let (zero, three) = (scene.frame_view(0, screen), scene.frame_view(3, screen));
+        assert_eq!(zero.previous_full_from_world, zero.full_from_world);
+        assert_eq!(three.previous_full_from_world, scene.frame_view(2, screen).full_from_world);
+        assert_eq!(three.eye, Vec3::new(0.6, -0.3, 0.0) * 1.0);
+        let velocity = scene.draws[0].velocity;
+        assert_eq!(three.models[0].0, Mat4::from_translation(velocity * 3.0));
+        assert_eq!(three.models[0].1, Mat4::from_translation(velocity * 2.0));
+        assert_eq!(zero.models[0], (Mat4::IDENTITY, Mat4::IDENTITY));
+        // A point straight ahead at 10 m: the travel moves its image by focal/10 pixels a metre
+        // against the travel in x, along it in y (y down); the pan adds its pixels.
+        let focal = screen.1 as f32 / 2.0 / (FLAT_CAMERA.fov_y / 2.0).tan();
+        let p = Vec3::new(0.0, 0.0, -10.0);
+        let (x0, y0) = to_pixels(&zero, screen, p);
+        let (x3, y3) = to_pixels(&three, screen, p);
+        let expected = Vec2::new(3.0 * (1.0 - 0.2 * focal / 10.0), 3.0 * (-0.5 - 0.1 * focal / 10.0));
+        assert!((Vec2::new(x3 - x0, y3 - y0) - expected).length() < 1e-3, "moved ({}, {})", x3 - x0, y3 - y0);
+    }
+
+    /// Twelve rects in front of a backdrop over the whole screen at 40 m: each inside the screen
+    /// and at least a pixel wide, 2 to 32 m away, colours in 1/255 steps; the seed decides them.
+    #[test]
+    fn seeded_rects_lie_on_screen_in_front_of_the_backdrop() {
+        let screen = (37, 23);
+        let mut extremes = (f32::MAX, f32::MIN);
+        for seed in 0..40 {
+            let rects = seeded_rects(screen, seed);
+            assert_eq!(rects.len(), 13);
+            assert_eq!((rects[0].x0, rects[0].y0, rects[0].x1, rects[0].y1, rects[0].distance), (0, 0, 37, 23, 40.0));
+            for r in &rects[1..] {
+                assert!(0 <= r.x0 && r.x0 < r.x1 && r.x1 <= 37 && 0 <= r.y0 && r.y0 < r.y1 && r.y1 <= 23, "{r:?}");
+                assert!((2.0..32.0).contains(&r.distance), "{r:?}");
+                extremes = (extremes.0.min(r.distance), extremes.1.max(r.distance));
+            }
+            for r in &rects {
+                assert!(r.albedo.iter().all(|&c| (c * 255.0).fract() == 0.0 && (0.0..=1.0).contains(&c)), "{r:?}");
+                assert_eq!((r.velocity, r.opacity), (Vec2::ZERO, 1.0));
+            }
+            assert_eq!(seeded_rects(screen, seed), rects);
+            assert_ne!(seeded_rects(screen, seed + 1000), rects);
+        }
+        assert!(extremes.0 < 3.0 && extremes.1 > 31.0, "distances span {extremes:?}");
+        let scene = flat_rects(screen, 3, Vec2::new(1.0, 0.0));
+        assert_eq!((scene.name.as_str(), scene.draws.len()), ("flat_rects", 13));
+        assert_eq!(scene.camera_motion, CameraMotion { pan_pixels: Vec2::new(1.0, 0.0), travel: Vec3::ZERO });
+    }
+
+    /// The corridor: its geometry textured on the floor (scale 1) and walls (0.5) only, the
+    /// object box for `object_*` moving along x, two glass panes last, the farther first; the
+    /// camera moving as the motion says.
+    #[test]
+    fn the_textured_corridor_moves_and_textures_as_its_motion_says() {
+        let base = corridor(5, 4);
+        for motion in [Motion::Static, Motion::Pan(Vec2::new(1.0, 0.5)), Motion::Strafe(0.1), Motion::Object(0.25)] {
+            let scene = textured_corridor(5, 4, motion);
+            assert_eq!(scene.name, format!("corridor_{}", motion.name()));
+            assert_eq!((scene.lights.as_slice(), scene.camera), (base.lights.as_slice(), base.camera));
+            let expected_camera = match motion {
+                Motion::Pan(p) => CameraMotion { pan_pixels: p, travel: Vec3::ZERO },
+                Motion::Strafe(m) => CameraMotion { pan_pixels: Vec2::ZERO, travel: Vec3::new(m, 0.0, 0.0) },
+                _ => CameraMotion::default(),
+            };
+            assert_eq!(scene.camera_motion, expected_camera);
+            let geometry = &scene.draws[0];
+            assert_eq!((geometry.vertices.clone(), geometry.transparent), (0..base.vertices.len() as u32, false));
+            for (i, (v, b)) in scene.vertices.iter().zip(&base.vertices).enumerate() {
+                assert_eq!(
+                    (v.position, v.normal, v.albedo, v.shininess),
+                    (b.position, b.normal, b.albedo, b.shininess)
+                );
+                let scale = match i / 36 {
+                    0 => 1.0,
+                    2 | 3 => 0.5,
+                    _ => 0.0,
+                };
+                assert_eq!(v.texture_scale, scale, "vertex {i}");
+            }
+            let object = matches!(motion, Motion::Object(_));
+            assert_eq!(scene.draws.len(), if object { 4 } else { 3 });
+            assert_eq!(scene.objects_move(), object);
+            if let Motion::Object(metres) = motion {
+                let cube = &scene.draws[1];
+                assert_eq!((cube.velocity, cube.transparent, cube.vertices.len()), (Vec3::X * metres, false, 18));
+                // Three faces of a 0.9 m cube about (−1.8, 1.3, −2), each facing out.
+                for v in &scene.vertices[cube.vertices.start as usize..cube.vertices.end as usize] {
+                    let offset = Vec3::from_array(v.position) - Vec3::new(-1.8, 1.3, -2.0);
+                    let normal = Vec3::from_array(v.normal);
+                    assert!((offset.dot(normal) - 0.45).abs() < 1e-5, "{offset} along {normal}");
+                    assert!(offset.abs().max_element() <= 0.45 + 1e-5);
+                }
+            }
+            let panes = &scene.draws[scene.draws.len() - 2..];
+            assert!(panes.iter().all(|d| d.transparent && d.velocity == Vec3::ZERO && d.vertices.len() == 6));
+            let z = |d: &Draw| scene.vertices[d.vertices.start as usize].position[2];
+            assert_eq!((z(&panes[0]), z(&panes[1])), (-9.0, -3.0));
+            assert!(scene.has_transparents());
+        }
     }
 }

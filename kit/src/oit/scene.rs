@@ -111,3 +111,102 @@ impl QuadScene {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The paper's scene: an opaque grey background at 0.999, then red, green, blue and white
+    /// quads 0.9 wide, offset by 0.3 towards the upper-left, upper-right, lower-left and
+    /// lower-right corners, at depths 0.2 to 0.8, opacity 0.6 but the white 0.2; keys in order.
+    #[test]
+    fn the_papers_quads_are_where_its_figure_puts_them() {
+        let scene = QuadScene::paper();
+        assert_eq!(scene.name, "paper");
+        let expected = [
+            ([-1.0, 1.0, 1.0, -1.0], 0.999, 1.0, [0.5, 0.5, 0.5]),
+            ([-0.75, 0.75, 0.15, -0.15], 0.2, 0.6, [1.0, 0.0, 0.0]),
+            ([-0.15, 0.75, 0.75, -0.15], 0.4, 0.6, [0.0, 1.0, 0.0]),
+            ([-0.75, 0.15, 0.15, -0.75], 0.6, 0.6, [0.0, 0.0, 1.0]),
+            ([-0.15, 0.15, 0.75, -0.75], 0.8, 0.2, [1.0, 1.0, 1.0]),
+        ];
+        assert_eq!(scene.quads.len(), 5);
+        for (i, (quad, (rect, depth, alpha, colour))) in scene.quads.iter().zip(expected).enumerate() {
+            assert!(quad.rect.iter().zip(rect).all(|(a, b)| (a - b).abs() < 1e-6), "quad {i}: {:?}", quad.rect);
+            assert_eq!((quad.depth, quad.alpha, quad.colour, quad.key), ((depth, depth), alpha, colour, i as u32));
+            assert_eq!(quad.is_opaque(), i == 0);
+        }
+        scene.validate().unwrap();
+    }
+
+    /// The stiff pile: the background and `layers` quads; every fourth layer at the depth of the
+    /// one before, the others drawn in (0.05, 0.95); by layer index mod 5 nearly opaque (≥ 0.97),
+    /// nearly clear (≤ 0.021) or in between; sizes 0.5–1.1; the seed decides them.
+    #[test]
+    fn a_stiff_pile_has_its_ties_and_its_extreme_opacities() {
+        let scene = QuadScene::stiff(40, 9);
+        assert_eq!((scene.name.as_str(), scene.quads.len()), ("stiff_40", 41));
+        assert_eq!(scene.quads[0].depth, (0.999, 0.999));
+        assert!(scene.quads.iter().enumerate().all(|(i, q)| q.key == i as u32));
+        let layers = &scene.quads[1..];
+        for (i, quad) in layers.iter().enumerate() {
+            let depth = quad.depth.0;
+            assert_eq!(quad.depth.1, depth);
+            if i % 4 == 3 {
+                assert_eq!(depth, layers[i - 1].depth.0, "layer {i} ties with the one before");
+            } else {
+                assert!((0.05..0.95).contains(&depth), "layer {i} at {depth}");
+                assert!(i == 0 || depth != layers[i - 1].depth.0, "layer {i} ties by chance");
+            }
+            let alpha = quad.alpha;
+            match i % 5 {
+                0 => assert!((0.97..0.999).contains(&alpha), "layer {i}: {alpha}"),
+                1 => assert!((0.001..0.021).contains(&alpha), "layer {i}: {alpha}"),
+                _ => assert!((0.1..0.9).contains(&alpha), "layer {i}: {alpha}"),
+            }
+            let [x0, y0, x1, y1] = quad.rect;
+            assert!((-0.9..0.3).contains(&x0) && (-0.3..0.9).contains(&y0), "layer {i}: {:?}", quad.rect);
+            assert!((0.5..1.1).contains(&(x1 - x0)) && (0.5..1.1).contains(&(y0 - y1)), "layer {i}: {:?}", quad.rect);
+            assert!(quad.colour.iter().all(|c| (0.0..1.0).contains(c)));
+        }
+        assert_eq!(QuadScene::stiff(40, 9), scene);
+        assert_ne!(QuadScene::stiff(40, 10), scene);
+        scene.validate().unwrap();
+    }
+
+    /// The intersecting scene: the paper's quads with an opaque slab from depth 0.05 at its left
+    /// edge to 0.95 at its right inserted after the background; keys renumbered in order.
+    #[test]
+    fn the_intersecting_slab_cuts_through_the_papers_quads() {
+        let scene = QuadScene::intersecting();
+        let paper = QuadScene::paper();
+        assert_eq!((scene.name.as_str(), scene.quads.len()), ("intersecting", 6));
+        let slab = scene.quads[1];
+        assert_eq!((slab.rect, slab.depth, slab.alpha, slab.key), ([-0.8, 0.15, 0.8, -0.15], (0.05, 0.95), 1.0, 1));
+        assert!(slab.is_opaque());
+        for (i, quad) in scene.quads.iter().enumerate().filter(|(i, _)| *i != 1) {
+            let from_paper = paper.quads[if i == 0 { 0 } else { i - 1 }];
+            assert_eq!(*quad, Quad { key: i as u32, ..from_paper });
+        }
+    }
+
+    /// Opacities and depths outside 0..=1 (NaN included) are refused, naming the quad and scene.
+    #[test]
+    fn validation_refuses_opacities_and_depths_outside_0_to_1() {
+        let with = |alpha: f32, depth: (f32, f32)| {
+            let mut scene = QuadScene::paper();
+            scene.quads[2].alpha = alpha;
+            scene.quads[2].depth = depth;
+            scene.validate().map_err(|e| e.to_string())
+        };
+        assert!(with(0.0, (0.0, 1.0)).is_ok() && with(1.0, (1.0, 0.0)).is_ok());
+        for alpha in [-0.01, 1.01, f32::NAN] {
+            let error = with(alpha, (0.5, 0.5)).unwrap_err();
+            assert!(error.contains("quad 2 of scene \"paper\": opacity") && error.contains("outside 0..=1"), "{error}");
+        }
+        for depth in [(-0.1, 0.5), (0.5, 1.1), (0.5, f32::NAN), (f32::NAN, 0.5)] {
+            let error = with(0.5, depth).unwrap_err();
+            assert!(error.contains("quad 2 of scene \"paper\": depth"), "{error}");
+        }
+    }
+}
