@@ -258,4 +258,150 @@ mod tests {
         // blocks {0..3} and {4..7} do.
         assert_eq!(lod.levels, vec![1, 1, 0, 0, 0, 0, 1, 1]);
     }
+
+    /// Off the screen's corner, on a screen taller than wide: the focus is the fraction of each
+    /// side, the level floor(log2(1 + distance / radius)) from the pixel centre.
+    #[test]
+    fn foveated_levels_follow_the_distance_from_a_focus_anywhere() {
+        // 16×8, focus (0.25, 0.5) → (4, 4), radius 2.
+        let lod = foveated((16, 8), (0.25, 0.5), 2.0, 8);
+        let level = |x: u32, y: u32| lod.levels[(y * 16 + x) as usize];
+        for (x, y) in [(0u32, 0u32), (4, 4), (12, 4), (4, 0), (0, 7), (15, 7), (9, 1)] {
+            let distance = (f64::from(x) + 0.5 - 4.0).hypot(f64::from(y) + 0.5 - 4.0);
+            let expected = (1.0 + distance / 2.0).log2().floor() as u8;
+            assert_eq!(level(x, y), expected, "({x}, {y}) at {distance}");
+        }
+        assert_eq!([level(4, 4), level(4, 0), level(12, 4)], [0, 1, 2]);
+        // The ambiguity: on 1×16 with the focus at the top, radius 1: pixel y's centre lies at
+        // y + 0.5, so 1 + 0.5 = 1.5 … never a power of two; radius 0.5: y = 0 gives 2, y = 1 gives 4.
+        let column = foveated((1, 16), (0.5, 0.0), 0.5, 8);
+        assert_eq!(&column.ambiguous[..4], &[true, true, false, true]);
+        assert!(!foveated((1, 16), (0.5, 0.0), 1.0, 8).ambiguous.iter().any(|&a| a));
+    }
+
+    /// Each block the nesting reaches splits with probability one half, at every level: over
+    /// aligned 64×64 screens, the share of reached blocks that split lies within 4 standard
+    /// deviations of 1/2 (a block is reached when every pixel is at its level or finer, split
+    /// when every pixel is finer).
+    #[test]
+    fn nested_blocks_split_with_probability_one_half() {
+        let top = 3;
+        for level in 1..=top {
+            let (mut reached, mut split) = (0u32, 0u32);
+            for seed in 0..20 {
+                let lod = nested_random((64, 64), top, seed);
+                let side = 1u32 << level;
+                for by in 0..64 / side {
+                    for bx in 0..64 / side {
+                        let pixels: Vec<u32> = (0..side * side)
+                            .map(|i| u32::from(lod[((by * side + i / side) * 64 + bx * side + i % side) as usize]))
+                            .collect();
+                        reached += u32::from(pixels.iter().all(|&l| l <= level));
+                        split += u32::from(pixels.iter().all(|&l| l < level));
+                    }
+                }
+            }
+            let share = f64::from(split) / f64::from(reached);
+            let sigma = 0.5 / f64::from(reached).sqrt();
+            assert!((share - 0.5).abs() <= 4.0 * sigma, "level {level}: {split} of {reached} split");
+        }
+        assert_eq!(nested_random((64, 64), top, 1), nested_random((64, 64), top, 1));
+    }
+
+    fn facing(position: [f32; 3], normal: [f32; 3]) -> Surface {
+        Surface {
+            position: [position[0], position[1], position[2], 1.0],
+            normal: [normal[0], normal[1], normal[2], 8.0],
+            albedo: [0.5; 4],
+        }
+    }
+
+    /// The edge tests: coverage; normals whose cosine is under the threshold; a position jump over
+    /// `depth_ratio` of the distance to the eye. Within 2^-20 (relative) of either threshold the
+    /// answer is open unless the other test decides an edge.
+    #[test]
+    fn an_edge_is_decided_by_coverage_normals_or_depth_and_open_near_a_threshold() {
+        let eye = DVec3::ZERO;
+        let a = facing([0.0, 0.0, -1.0], [0.0, 0.0, 1.0]);
+        let empty = Surface { position: [0.0; 4], normal: [0.0; 4], albedo: [0.0; 4] };
+        assert_eq!(across_edge(&a, &empty, eye, 0.9, 0.5), Some(true));
+        assert_eq!(across_edge(&empty, &empty, eye, 0.9, 0.5), Some(false));
+        // Normals: the cosine is the tilted normal's z. f32 steps at 0.9 are 2^-24; the open band
+        // is 2^-20 (1 + 0.9) ≈ 30 of them.
+        let threshold = f64::from(0.9f32);
+        let tilted = |steps: i32| {
+            let z = 0.9f32 + steps as f32 * 2f32.powi(-24);
+            facing([0.0, 0.0, -1.0], [(1.0 - z * z).sqrt(), 0.0, z])
+        };
+        assert_eq!(across_edge(&a, &tilted(-1000), eye, threshold, 0.5), Some(true));
+        assert_eq!(across_edge(&a, &tilted(1000), eye, threshold, 0.5), Some(false));
+        assert_eq!(across_edge(&a, &tilted(0), eye, threshold, 0.5), None);
+        assert_eq!(across_edge(&a, &tilted(25), eye, threshold, 0.5), None);
+        assert_eq!(across_edge(&a, &tilted(-25), eye, threshold, 0.5), None);
+        assert_eq!(across_edge(&a, &tilted(40), eye, threshold, 0.5), Some(false));
+        assert_eq!(across_edge(&a, &tilted(-40), eye, threshold, 0.5), Some(true));
+        // Depth: a at 1 m, the allowed jump 0.5 m; f32 steps at 1.5 are 2^-23, the open band
+        // 2^-20 (0.5 + 0.5) = 8 of them.
+        let behind = |steps: i32| facing([0.0, 0.0, -1.5 - steps as f32 * 2f32.powi(-23)], [0.0, 0.0, 1.0]);
+        assert_eq!(across_edge(&a, &behind(-1000), eye, 0.5, 0.5), Some(false));
+        assert_eq!(across_edge(&a, &behind(1000), eye, 0.5, 0.5), Some(true));
+        assert_eq!(across_edge(&a, &behind(0), eye, 0.5, 0.5), None);
+        assert_eq!(across_edge(&a, &behind(5), eye, 0.5, 0.5), None);
+        assert_eq!(across_edge(&a, &behind(-5), eye, 0.5, 0.5), None);
+        assert_eq!(across_edge(&a, &behind(12), eye, 0.5, 0.5), Some(true));
+        assert_eq!(across_edge(&a, &behind(-12), eye, 0.5, 0.5), Some(false));
+        // The allowed jump scales with the distance to the eye: from 1 m away the same 0.5 m
+        // jump is within 0.5 · 2.
+        let eye_back = DVec3::new(0.0, 0.0, 1.0);
+        assert_eq!(across_edge(&a, &behind(1000), eye_back, 0.5, 0.5), Some(false));
+        // A decided edge on one test settles an open call on the other; a decided non-edge does not.
+        let both = |normal_steps: i32, depth_steps: i32| {
+            let mut b = tilted(normal_steps);
+            b.position = behind(depth_steps).position;
+            across_edge(&a, &b, eye, threshold, 0.5)
+        };
+        assert_eq!(both(-1000, 0), Some(true));
+        assert_eq!(both(0, 1000), Some(true));
+        assert_eq!(both(1000, 0), None);
+        assert_eq!(both(0, -1000), None);
+        assert_eq!(both(1000, -1000), Some(false));
+    }
+
+    /// On 8×12 (taller than wide), empty below row 10: rows 9 and 10 are edges. Rows 0–7 lie in an
+    /// edge-free 8×8 block (level 3); rows 8–11 share 2×2 blocks with an edge (level 0).
+    #[test]
+    fn content_levels_follow_blocks_in_both_directions() {
+        let full = facing([0.0, 0.0, -1.0], [0.0, 0.0, 1.0]);
+        let empty = Surface { position: [0.0; 4], normal: [0.0; 4], albedo: [0.0; 4] };
+        let surfaces: Vec<Surface> = (0..12).flat_map(|y| [if y < 10 { full } else { empty }; 8]).collect();
+        let lod = content((8, 12), &surfaces, glam::Vec3::ZERO, (0.9, 0.05), 3);
+        let rows: Vec<u8> = (0..12).map(|y| lod.levels[y * 8]).collect();
+        assert_eq!(rows, [3, 3, 3, 3, 3, 3, 3, 3, 0, 0, 0, 0]);
+        assert!((0..12).all(|y| lod.levels[y * 8..y * 8 + 8].iter().all(|&l| l == rows[y])));
+        assert!(!lod.ambiguous.iter().any(|&a| a));
+        // Empty right of column 6 on rows 0–3 too: columns 5 and 6 are edges there.
+        let surfaces: Vec<Surface> = (0..12)
+            .flat_map(|y| (0..8).map(move |x| if y >= 10 || (y < 4 && x >= 6) { empty } else { full }))
+            .collect();
+        let lod = content((8, 12), &surfaces, glam::Vec3::ZERO, (0.9, 0.05), 3);
+        let level = |x: usize, y: usize| lod.levels[y * 8 + x];
+        assert_eq!((0..8).map(|x| level(x, 0)).collect::<Vec<_>>(), [2, 2, 2, 2, 0, 0, 0, 0]);
+        // Row 4: its level-2 block (rows 4–7, columns 4–7) holds column 6's edge at row 4 (its
+        // neighbour above is empty).
+        assert_eq!((0..8).map(|x| level(x, 4)).collect::<Vec<_>>(), [2, 2, 2, 2, 1, 1, 0, 0]);
+    }
+
+    /// An undecidable pixel (a normal exactly at the threshold) and its neighbours are open: the
+    /// level is what it would be were they edges, and marked ambiguous where it would differ.
+    #[test]
+    fn content_levels_over_an_undecidable_pixel_are_ambiguous() {
+        let flat = facing([0.0, 0.0, -1.0], [0.0, 0.0, 1.0]);
+        let z = 0.9f32;
+        let tilted = facing([0.0, 0.0, -1.0], [(1.0 - z * z).sqrt(), 0.0, z]);
+        let mut surfaces = [flat; 8];
+        surfaces[5] = tilted;
+        let lod = content((8, 1), &surfaces, glam::Vec3::ZERO, (z, 0.05), 2);
+        assert_eq!(lod.levels, [2, 2, 2, 2, 0, 0, 0, 0]);
+        assert_eq!(lod.ambiguous, [false, false, false, false, true, true, true, true]);
+    }
 }
