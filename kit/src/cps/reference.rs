@@ -486,4 +486,117 @@ mod tests {
         let image = inputs.composite(CompositeMode::Nearest);
         assert_eq!(image.iter().map(|t| t[0]).collect::<Vec<_>>(), vec![1.0, 5.0]);
     }
+
+    /// A level's texel at a position off its extent is the nearest edge texel's (clamp to edge).
+    #[test]
+    fn a_level_clamps_reads_to_its_edge() {
+        let texel = |i: u32| [i as f32, 0.0, 0.0, 1.0];
+        let level = Level { extent: (3, 2), texels: (0..6).map(texel).collect() };
+        assert_eq!(level.at(1, 1), texel(4));
+        assert_eq!(level.at(5, 0), texel(2));
+        assert_eq!(level.at(-3, 1), texel(3));
+        assert_eq!(level.at(2, 7), texel(5));
+        assert_eq!(level.at(-1, -1), texel(0));
+    }
+
+    /// A texel is lit at the centre pixel of its 2^level block (the block's origin plus half its
+    /// side, rounded down), clamped to the screen.
+    #[test]
+    fn a_texel_is_lit_at_its_blocks_centre_pixel() {
+        assert_eq!(sample_pixel((16, 16), 0, [3, 5]), [3, 5]);
+        assert_eq!(sample_pixel((16, 16), 1, [3, 5]), [7, 11]);
+        assert_eq!(sample_pixel((16, 16), 2, [1, 2]), [6, 10]);
+        assert_eq!(sample_pixel((16, 16), 3, [1, 0]), [12, 4]);
+        // Clamped to the last column and row.
+        assert_eq!(sample_pixel((7, 3), 2, [1, 0]), [6, 2]);
+        assert_eq!(sample_pixel((5, 9), 3, [0, 1]), [4, 8]);
+    }
+
+    /// One composited pixel's bound: 16 f32 ulps (2^-19) of the largest input, one f16 ulp
+    /// (2^-10) of the value and the f16 subnormal step (2^-24).
+    #[test]
+    fn a_nearest_pixels_bound_is_the_f32_slack_and_one_f16_ulp() {
+        let lit = [Level { extent: (1, 1), texels: vec![[2.0, -0.5, 0.0, 1.0]] }];
+        let inputs = CompositeInputs { screen: (1, 1), lod: &[0], lit: &lit };
+        let pixel = inputs.composite_with_bounds(CompositeMode::Nearest)[0];
+        assert_eq!(pixel.colour, [2.0, -0.5, 0.0, 1.0]);
+        let bound = |v: f32| 2f32.powi(-19) * v + 2f32.powi(-10) * v + 2f32.powi(-24);
+        assert_eq!(pixel.bound, [bound(2.0), bound(0.5), bound(0.0)]);
+    }
+
+    /// LODs past the last lit level read that level.
+    #[test]
+    fn lods_past_the_top_read_the_top_level() {
+        let lit = [
+            Level { extent: (2, 2), texels: vec![[1.0, 0.0, 0.0, 1.0]; 4] },
+            Level { extent: (1, 1), texels: vec![[7.0, 0.0, 0.0, 1.0]] },
+        ];
+        let inputs = CompositeInputs { screen: (2, 2), lod: &[5, 1, 0, 9], lit: &lit };
+        let image = inputs.composite(CompositeMode::Nearest);
+        assert_eq!(image.iter().map(|t| t[0]).collect::<Vec<_>>(), [7.0, 7.0, 1.0, 7.0]);
+    }
+
+    /// The paper's 4-neighbour composite, read plainly: a pixel at offset q from its fragment's
+    /// centre (in fragment sizes) blends its own coarse colour with the fragments just across x
+    /// and y on its side, and the diagonal one reached across the larger offset first, bilinearly
+    /// by |q|. The colours of a 2×2-fragment level: 1, 2 (top), 4, 8 (bottom).
+    #[test]
+    fn four_neighbour_blends_the_fragments_on_a_pixels_side_bilinearly() {
+        let colour = |v: f32| [v, 10.0 * v, 0.0, 1.0];
+        let lit = [
+            Level { extent: (4, 4), texels: vec![colour(0.0); 16] },
+            Level { extent: (2, 2), texels: [1.0, 2.0, 4.0, 8.0].map(colour).to_vec() },
+        ];
+        let inputs = CompositeInputs { screen: (4, 4), lod: &[1; 16], lit: &lit };
+        let image = inputs.composite(CompositeMode::FourNeighbour);
+        let bilinear = |own: f32, across_x: f32, across_y: f32, diagonal: f32, a: f32, b: f32| {
+            own * (1.0 - a) * (1.0 - b) + across_x * a * (1.0 - b) + across_y * (1.0 - a) * b + diagonal * a * b
+        };
+        let expected = [
+            // (0, 0): q = (−1/4, −1/4); across the screen's edge the clamped reads are its own.
+            ((0, 0), 1.0),
+            ((1, 1), bilinear(1.0, 2.0, 4.0, 8.0, 0.25, 0.25)),
+            ((2, 1), bilinear(2.0, 1.0, 8.0, 4.0, 0.25, 0.25)),
+            ((1, 2), bilinear(4.0, 8.0, 1.0, 2.0, 0.25, 0.25)),
+            ((2, 2), bilinear(8.0, 4.0, 2.0, 1.0, 0.25, 0.25)),
+            ((1, 0), bilinear(1.0, 2.0, 1.0, 2.0, 0.25, 0.25)),
+            ((3, 3), 8.0),
+        ];
+        for ((x, y), want) in expected {
+            let got = image[y * 4 + x];
+            assert!(
+                (got[0] - want).abs() < 1e-5 && (got[1] - 10.0 * want).abs() < 1e-4,
+                "({x}, {y}): {got:?} against {want}"
+            );
+        }
+        // Across levels, with |q_y| > |q_x|: a 4×4 fragment (level 2) beside 2×2 ones (level 1)
+        // and single pixels (level 0). Pixel (1, 0) of the level-2 fragment lies at
+        // q = (−1/8, −3/8): across y first (above the screen: its own), then across x.
+        let mut lod = vec![2u8; 64];
+        for y in 0..8 {
+            for x in 4..8 {
+                lod[y * 8 + x] = if y < 4 { 1 } else { 0 };
+            }
+        }
+        let lit = [
+            Level { extent: (8, 8), texels: (0..64).map(|i| colour(100.0 + i as f32)).collect() },
+            Level { extent: (4, 4), texels: (0..16).map(|i| colour(10.0 + i as f32)).collect() },
+            Level { extent: (2, 2), texels: (0..4).map(|i| colour(1.0 + i as f32)).collect() },
+        ];
+        let inputs = CompositeInputs { screen: (8, 8), lod: &lod, lit: &lit };
+        let image = inputs.composite(CompositeMode::FourNeighbour);
+        // (3, 1): q = (3/8, −1/8); across x is level-1 texel (2, 0) = 12, across y (above) its
+        // own 1; the diagonal across x then y: pixel (4, −1), clamped to (4, 0) = 12.
+        let want = bilinear(1.0, 12.0, 1.0, 12.0, 0.375, 0.125);
+        assert!((image[8 + 3][0] - want).abs() < 1e-4, "(3, 1): {:?} against {want}", image[8 + 3]);
+        // (3, 2): q = (3/8, 1/8); across x (4, 2) is level-1 texel (2, 1) = 16; across y (3, 4)
+        // is level 2's texel (0, 1) = 3; the diagonal from (4, 2) across y: its fragment (2×2 at
+        // rows 2–3) ends at row 4, pixel (4, 4): level 0, 100 + 36.
+        let want = bilinear(1.0, 16.0, 3.0, 136.0, 0.375, 0.125);
+        assert!((image[16 + 3][0] - want).abs() < 1e-3, "(3, 2): {:?} against {want}", image[16 + 3]);
+        // (2, 3): q = (1/8, 3/8): |q_y| larger, so the diagonal goes across y first: (2, 4) at
+        // level 2 = 3, then across x from there: (4, 4) = 136; across x directly: (4, 3) = 16.
+        let want = bilinear(1.0, 16.0, 3.0, 136.0, 0.125, 0.375);
+        assert!((image[24 + 2][0] - want).abs() < 1e-3, "(2, 3): {:?} against {want}", image[24 + 2]);
+    }
 }
