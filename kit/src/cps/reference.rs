@@ -599,4 +599,134 @@ mod tests {
         let want = bilinear(1.0, 16.0, 3.0, 136.0, 0.125, 0.375);
         assert!((image[24 + 2][0] - want).abs() < 1e-3, "(2, 3): {:?} against {want}", image[24 + 2]);
     }
+
+    /// The seam metric by its definition on 2×2: pairs (0,0)–(1,0) and (0,0)–(0,1) cross a LOD
+    /// change, (1,0)–(1,1) and (0,1)–(1,1) do not. Red steps: image −2 and −4 against the
+    /// reference's −1 and −1: departures 1 and 3, a third of each over RGB, their mean 2/3.
+    #[test]
+    fn the_seam_error_is_the_mean_departure_of_steps_across_lod_changes() {
+        let red = |values: [f32; 4]| values.map(|v| [v, 0.0, 0.0, 1.0]).to_vec();
+        let lod = [0, 1, 1, 1];
+        let image = red([1.0, 3.0, 5.0, 100.0]);
+        let reference = red([1.0, 2.0, 2.0, -50.0]);
+        assert!((seam_error((2, 2), &lod, &image, &reference) - 2.0 / 3.0).abs() < 1e-12);
+        // Green and blue count too, each a third.
+        let mut green = image.clone();
+        green[1][1] = 0.6;
+        assert!((seam_error((2, 2), &lod, &green, &reference) - (2.0 / 3.0 + 0.6 / 3.0 / 2.0)).abs() < 1e-6);
+        // On 3×1 with LODs 0, 0, 1: only the pair (1, 2), whatever happens elsewhere.
+        let row = |values: [f32; 3]| values.map(|v| [v, v, v, 1.0]).to_vec();
+        let error = seam_error((3, 1), &[0, 0, 1], &row([9.0, 2.0, 1.0]), &row([-9.0, 2.0, 1.5]));
+        assert!((error - 0.5).abs() < 1e-12, "{error}");
+        // No LOD change, no seam.
+        assert_eq!(seam_error((2, 2), &[1; 4], &image, &reference), 0.0);
+    }
+
+    /// A composite's alpha is 1 whatever the lit level's alpha.
+    #[test]
+    fn a_composited_pixel_is_opaque() {
+        let lit = [Level { extent: (1, 1), texels: vec![[0.5, 0.5, 0.5, 0.25]] }];
+        let inputs = CompositeInputs { screen: (1, 1), lod: &[0], lit: &lit };
+        for mode in [CompositeMode::Nearest, CompositeMode::FourNeighbour, CompositeMode::SeamFree] {
+            assert_eq!(inputs.composite(mode)[0][3], 1.0, "{mode:?}");
+        }
+    }
+
+    /// On single-pixel fragments every sample is its pixel: the seam-free triangle at a pixel is
+    /// its own sample with the next ones along +x and +y (where P lies on its sample, the
+    /// positive side first), the other side where the screen ends; the bound covers the
+    /// largest of its three corners.
+    #[test]
+    fn seam_free_triangles_on_single_pixel_fragments_take_the_positive_side_first() {
+        let magnitude = |p: [i64; 2]| [1.0 + 10.0 * (p[0] + 3 * p[1]) as f32, 0.0, 0.0, 1.0];
+        let lit = sampled_levels((3, 3), 0, magnitude);
+        let inputs = CompositeInputs { screen: (3, 3), lod: &[0; 9], lit: &lit };
+        let triangle = |p: [i64; 2]| inputs.seam_free_triangle(p).unwrap().corners;
+        assert_eq!(triangle([1, 1]), [[1, 1], [2, 1], [1, 2]]);
+        assert_eq!(triangle([0, 0]), [[0, 0], [1, 0], [0, 1]]);
+        assert_eq!(triangle([2, 1]), [[2, 1], [1, 1], [2, 2]]);
+        assert_eq!(triangle([2, 2]), [[2, 2], [1, 2], [2, 1]]);
+        let pixels = inputs.composite_with_bounds(CompositeMode::SeamFree);
+        // (1, 1): its own colour 41; the corners 41, 51 and 71 (weights 0, no amplification).
+        let centre = pixels[4];
+        assert_eq!(centre.colour[0], 41.0);
+        let expected = 2f32.powi(-19) * 71.0 + 2f32.powi(-10) * 41.0 + 2f32.powi(-24);
+        assert!((centre.bound[0] - expected).abs() <= 1e-6 * expected, "{:?} against {expected}", centre.bound);
+    }
+
+    /// Beyond the outermost sample the triangle is flat: at (1, 0) of a 4×4 fragment sampled at
+    /// (2, 2), with single pixels right and below, no candidate holds P; the first, flat along
+    /// both axes by P's own distance from A (−1 in x, −2 in y), is kept: det 2, β = δ = 1. Its
+    /// colour is P's own, its bound amplified by 1 + 2 (|β| + |δ|) = 5.
+    #[test]
+    fn beyond_the_outermost_sample_the_triangle_is_flat_by_the_pixels_own_distance() {
+        let lod: Vec<u8> = (0..64).map(|i| if i % 8 < 4 && i / 8 < 4 { 2 } else { 0 }).collect();
+        let lit = sampled_levels((8, 8), 2, |p| [2.0 + p[0] as f32, 0.0, 0.0, 1.0]);
+        let inputs = CompositeInputs { screen: (8, 8), lod: &lod, lit: &lit };
+        let triangle = inputs.seam_free_triangle([1, 0]).unwrap();
+        assert_eq!(triangle, Triangle { corners: [[1, 0]; 3], det: 2, nb: 2, nd: 2 });
+        assert!(triangle.has_flat_corner());
+        let pixel = inputs.composite_with_bounds(CompositeMode::SeamFree)[1];
+        // The fragment was lit at (2, 2): 4.
+        assert_eq!(pixel.colour[0], 4.0);
+        let expected = 2f32.powi(-19) * 4.0 * 5.0 + 2f32.powi(-10) * 4.0 + 2f32.powi(-24);
+        assert!((pixel.bound[0] - expected).abs() <= 1e-6 * expected, "{:?} against {expected}", pixel.bound);
+    }
+
+    /// On nested LODs, wherever a triangle of A and the samples of the fragments just across x
+    /// and y (either side, read plainly: the pixel past the block's edge) holds P, the chosen one
+    /// holds it, with real corners: P − A = β (B − A) + δ (D − A), β, δ ≥ 0, β + δ ≤ 1, solved
+    /// here in f64 and equal to the triangle's weights. Shading that is not linear then stays
+    /// within its corners' colours there (an interpolation, never an extrapolation).
+    #[test]
+    fn seam_free_triangles_hold_their_pixel_wherever_one_can() {
+        let mut held = 0;
+        for (seed, screen, top) in [(1, (37, 23), 3), (2, (64, 48), 4), (3, (13, 50), 2), (6, (40, 40), 3)] {
+            let lod = crate::cps::lod_model::nested_random(screen, top, seed);
+            let wavy = |p: [i64; 2]| [(p[0] as f32 * 0.7).sin() + (p[1] as f32 * 0.3).cos() + 3.0, 1.0, 1.0, 1.0];
+            let lit = sampled_levels(screen, top, wavy);
+            let inputs = CompositeInputs { screen, lod: &lod, lit: &lit };
+            let image = inputs.composite(CompositeMode::SeamFree);
+            let solve = |a: [f64; 2], b: [f64; 2], d: [f64; 2], p: [f64; 2]| {
+                let (u, v, w) = ([b[0] - a[0], b[1] - a[1]], [d[0] - a[0], d[1] - a[1]], [p[0] - a[0], p[1] - a[1]]);
+                let det = u[0] * v[1] - u[1] * v[0];
+                (det != 0.0).then(|| ((w[0] * v[1] - w[1] * v[0]) / det, (u[0] * w[1] - u[1] * w[0]) / det))
+            };
+            let holds = |(beta, delta): (f64, f64)| beta >= 0.0 && delta >= 0.0 && beta + delta <= 1.0 + 1e-12;
+            let sample = |at: [i64; 2]| inputs.sample_of(at).map(|v| v as f64);
+            for (i, pixel) in image.iter().enumerate() {
+                let p = [i as i64 % i64::from(screen.0), i as i64 / i64::from(screen.0)];
+                let level = u32::from(lod[i]).min(top);
+                let across = |axis: usize, side: i64| {
+                    let origin = (p[axis] >> level) << level;
+                    let mut q = p;
+                    q[axis] = if side < 0 { origin - 1 } else { origin + (1 << level) };
+                    inputs.on_screen(q).then(|| sample(q))
+                };
+                let pf = p.map(|v| v as f64);
+                let any = [-1, 1].iter().any(|&sx| {
+                    [-1, 1].iter().any(|&sy| match (across(0, sx), across(1, sy)) {
+                        (Some(b), Some(d)) => solve(sample(p), b, d, pf).is_some_and(holds),
+                        _ => false,
+                    })
+                });
+                if !any {
+                    continue;
+                }
+                let triangle = inputs.seam_free_triangle(p).unwrap();
+                assert!(!triangle.has_flat_corner(), "{screen:?} seed {seed} {p:?}: flat {triangle:?}");
+                let [a, b, d] = triangle.corners.map(sample);
+                let (beta, delta) = solve(a, b, d, pf).expect("not degenerate");
+                assert!(holds((beta, delta)), "{screen:?} seed {seed} {p:?}: β {beta}, δ {delta} in {triangle:?}");
+                let (gb, gd) = triangle.weights();
+                assert!((f64::from(gb) - beta).abs() < 1e-6 && (f64::from(gd) - delta).abs() < 1e-6);
+                let corners = triangle.corners.map(|at| inputs.coarse_colour(at)[0]);
+                let lo = corners.iter().copied().fold(f32::MAX, f32::min);
+                let hi = corners.iter().copied().fold(f32::MIN, f32::max);
+                assert!(pixel[0] >= lo - 1e-5 && pixel[0] <= hi + 1e-5, "{p:?}: {} outside {lo}..{hi}", pixel[0]);
+                held += 1;
+            }
+        }
+        assert!(held > 2000, "only {held} pixels between samples");
+    }
 }
