@@ -156,3 +156,38 @@ impl Caps {
         self.multisample.iter().filter(|m| m.standard_positions).map(|m| m.samples).collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::probe::sample_positions::Interval;
+
+    fn at(x: f32, y: f32, half_width: f32) -> SamplePosition {
+        let interval = |v: f32| Some(Interval { lo: v - half_width, hi: v + half_width });
+        SamplePosition { x: interval(x), y: interval(y) }
+    }
+
+    /// Standard when every sample's intervals hold its table position up to 1/16 px on either
+    /// side, in the table's order; a missing coordinate, a sample off by more, the wrong count
+    /// or a count with no table is not.
+    #[test]
+    fn positions_match_the_standard_table_within_the_coarsest_snap_only() {
+        let two = |a: [f32; 2], b: [f32; 2]| vec![at(a[0], a[1], 0.002), at(b[0], b[1], 0.002)];
+        assert!(matches_standard(2, &two([0.75, 0.75], [0.25, 0.25])));
+        // Up to just inside 1/16 beyond the interval, either side, either axis.
+        assert!(matches_standard(2, &two([0.75 + 0.06, 0.75], [0.25, 0.25 - 0.06])));
+        assert!(!matches_standard(2, &two([0.75 + 0.07, 0.75], [0.25, 0.25])));
+        assert!(!matches_standard(2, &two([0.75, 0.75 - 0.07], [0.25, 0.25])));
+        assert!(!matches_standard(2, &two([0.75, 0.75], [0.25, 0.25 + 0.07])));
+        // The order counts: swapped samples are another pattern.
+        assert!(!matches_standard(2, &two([0.25, 0.25], [0.75, 0.75])));
+        let mut missing = two([0.75, 0.75], [0.25, 0.25]);
+        missing[1].y = None;
+        assert!(!matches_standard(2, &missing));
+        missing[1] = SamplePosition { x: None, ..at(0.25, 0.25, 0.002) };
+        assert!(!matches_standard(2, &missing));
+        assert!(!matches_standard(2, &two([0.75, 0.75], [0.25, 0.25])[..1]));
+        assert!(!matches_standard(3, &two([0.75, 0.75], [0.25, 0.25])));
+        assert!(matches_standard(1, &[at(0.5, 0.5, 0.0)]));
+    }
+}

@@ -386,3 +386,17 @@ pub(crate) fn shading_uniform(
     words.extend([phase, 0, 0, 0]);
     crate::fullscreen::uniform_buffer(gpu, "sample shading", bytemuck::cast_slice(&words))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two turned quarter-resolution views side by side: width two quarter heights, height one
+    /// quarter width (odd sides rounded up).
+    #[test]
+    fn the_layout_holds_two_turned_quarter_views() {
+        assert_eq!(layout_size((64, 48)), (48, 32));
+        assert_eq!(layout_size((17, 9)), (10, 9));
+        assert_eq!(layout_size((1, 1)), (2, 1));
+    }
+}

@@ -163,3 +163,25 @@ pub fn source_counts(sources: &[PixelSource]) -> BTreeMap<&'static str, u64> {
     }
     counts
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_reconstruction_beats_a_reference_above_it_and_a_perfect_one_beats_its_tie() {
+        assert!(SameFrameReferences::beats(30.0, 29.9));
+        assert!(!SameFrameReferences::beats(30.0, 30.0));
+        assert!(!SameFrameReferences::beats(29.0, 30.0));
+        assert!(SameFrameReferences::beats(f64::INFINITY, f64::INFINITY));
+        assert!(!SameFrameReferences::beats(40.0, f64::INFINITY));
+    }
+
+    #[test]
+    fn source_counts_list_every_source_with_its_pixels() {
+        let counts = source_counts(&[PixelSource::History, PixelSource::Current, PixelSource::History]);
+        assert_eq!(counts.len(), PixelSource::ALL.len());
+        assert_eq!((counts["history"], counts["current"], counts["assumed"]), (2, 1, 0));
+        assert_eq!(counts.values().sum::<u64>(), 3);
+    }
+}

@@ -346,3 +346,64 @@ impl Reconstruction {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cbr::plan::Shading;
+    use crate::cbr::sampling::CheckerboardPath;
+
+    /// The source map stores each pixel's source as its index in `ALL`: every byte 0..7 reads
+    /// back as the source written, anything else as none; two of them shaded, five filled.
+    #[test]
+    fn sources_read_back_from_their_bytes_and_say_whether_they_were_filled() {
+        for (byte, source) in PixelSource::ALL.iter().enumerate() {
+            assert_eq!(PixelSource::from_byte(byte as u8), Some(*source));
+        }
+        assert_eq!(PixelSource::from_byte(7), None);
+        assert_eq!(PixelSource::from_byte(255), None);
+        let names = PixelSource::ALL.map(PixelSource::name);
+        assert_eq!(
+            names,
+            ["current", "history", "first_frame", "jitter_cancelled", "disoccluded", "assumed", "off_screen"]
+        );
+        let filled: Vec<bool> = PixelSource::ALL.iter().map(|s| s.is_filled()).collect();
+        assert_eq!(filled, [false, false, true, true, true, true, true]);
+    }
+
+    #[test]
+    fn detections_parse_from_their_names_and_refuse_bad_tolerances() {
+        assert_eq!(Detection::parse("aso").unwrap(), Detection::Aso);
+        assert_eq!(Detection::parse("cso").unwrap(), Detection::Cso { tolerance: 0.05 });
+        assert_eq!(Detection::parse("cso:0.2").unwrap(), Detection::Cso { tolerance: 0.2 });
+        assert_eq!(Detection::parse("cso:0").unwrap(), Detection::Cso { tolerance: 0.0 });
+        assert_eq!((Detection::Aso.name(), Detection::DEFAULT_CSO.name()), ("aso", "cso"));
+        for bad in ["cso:-0.1", "cso:inf", "cso:NaN", "cso:x", "aso:1", "", "CSO", "cso:"] {
+            let error = Detection::parse(bad).unwrap_err().to_string();
+            assert!(error.contains("tolerance") || error.contains("unknown detection"), "{bad:?}: {error}");
+        }
+        assert!(Detection::parse("cso:-0.1").unwrap_err().to_string().contains("finite number >= 0"));
+    }
+
+    /// The shader's specialisation constants say exactly what the plan needs.
+    #[test]
+    fn specialisation_follows_the_plan_and_the_detection() {
+        let plan = |object_motion, camera_reprojection, forward_buffer| CheckerboardPlan {
+            path: CheckerboardPath::OffsetPasses,
+            shading: Shading::Deferred,
+            object_motion,
+            camera_reprojection,
+            transparents: forward_buffer,
+            forward_buffer,
+        };
+        let constants = |p: &CheckerboardPlan, d| specialisation(p, d).map(|(name, value)| format!("{name}={value}"));
+        assert_eq!(
+            constants(&plan(true, false, true), Detection::Aso),
+            ["camera_moves=0", "objects_move=1", "forward_buffer=1", "depth_check=0"]
+        );
+        assert_eq!(
+            constants(&plan(false, true, false), Detection::DEFAULT_CSO),
+            ["camera_moves=1", "objects_move=0", "forward_buffer=0", "depth_check=1"]
+        );
+    }
+}

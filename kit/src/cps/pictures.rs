@@ -135,3 +135,22 @@ pub fn render_all(
     pictures.push(("fullres".to_owned(), reference));
     Ok(pictures)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Nine levels, nine distinct opaque colours, fine blue to coarse red; deeper levels share the
+    /// last one.
+    #[test]
+    fn each_level_has_its_own_colour() {
+        let colours: Vec<Rgba<u8>> = (0..9).map(level_colour).collect();
+        for (i, a) in colours.iter().enumerate() {
+            assert_eq!(a[3], 255);
+            assert!(colours[..i].iter().all(|b| b != a), "level {i} repeats a colour");
+        }
+        assert_eq!(level_colour(0), Rgba([30, 60, 200, 255]));
+        assert_eq!(level_colour(8), Rgba([170, 20, 60, 255]));
+        assert_eq!(level_colour(200), level_colour(8));
+    }
+}
