@@ -64,7 +64,7 @@ fn retries_report_flaky_cases_and_keep_failing_ones_failed() {
     let gpu = Gpu::open(&AdapterSelector::default()).unwrap_or_else(|e| panic!("{e:#}"));
     let expectations = Expectations::parse(fragkit_cases::EXPECTATIONS, "built in").unwrap();
     let options =
-        RunOptions { expectations: &expectations, evidence_dir: None, reproduce_command: None, retries: 2, repeats: 1 };
+        RunOptions { expectations: &expectations, evidence_dir: None, reproduction: None, retries: 2, repeats: 1 };
     let runs = [&FLAKY, &BROKEN].map(|case| CaseRun { case, overrides: Default::default() });
     let (mut first, mut second) = (Collect::default(), Collect::default());
     let report = run(gpu, &runs, runs.len(), &options, &mut [&mut first, &mut second]).unwrap();

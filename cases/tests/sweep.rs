@@ -8,8 +8,9 @@ use std::collections::BTreeMap;
 
 use fragkit::harness::Case;
 use fragkit::harness::params::Params;
+use fragkit::harness::reproduce::Reproduction;
 use fragkit::harness::run::plan_runs;
-use fragkit::harness::sweep::{draw, reproduce_line};
+use fragkit::harness::sweep::draw;
 
 /// Sets per case: enough to leave the defaults on every run, few enough for the suite's budget.
 const DRAWS: u32 = 2;
@@ -40,9 +41,12 @@ fn drawn_parameter_sets_hold() {
     let mut failures = Vec::new();
     // The runs `fragkit check --sweep DRAWS --seed SEED` plans for the cases with ranges.
     let swept: Vec<&Case> = fragkit_cases::all().iter().filter(|c| !c.sweep.is_empty()).collect();
+    let reproduction = Reproduction::of_process("fragkit check", &Default::default());
     for run in plan_runs(&swept, &BTreeMap::new(), Some((DRAWS, SEED))) {
-        let (record, ..) = support::run_with(run.case, &run.overrides);
-        let reproduce = reproduce_line("fragkit check", run.case, &run.overrides);
+        let (record, slug, _) = support::run_with(run.case, &run.overrides);
+        // The slug starts with the backend (`vulkan_llvmpipe_…`).
+        let backend = slug.split('_').next().unwrap_or_default();
+        let reproduce = reproduction.line(run.case, &run.overrides, backend);
         eprintln!("{:<14} {reproduce}", record.outcome.label());
         if record.outcome.is_failure(false) {
             failures.push(format!("{}: {}\n  reproduce: {reproduce}", run.case.name, record.reason));

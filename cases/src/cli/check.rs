@@ -11,6 +11,7 @@ use fragkit::gpu::AdapterSelector;
 use fragkit::harness::Case;
 use fragkit::harness::child_process::{arguments_without, log_tail};
 use fragkit::harness::params::parse_overrides;
+use fragkit::harness::reproduce::Reproduction;
 use fragkit::harness::run::{CaseRun, RunOptions, plan_runs};
 use fragkit::harness::runner::{check_overrides, select};
 use fragkit::harness::supervise::{CaseTimeout, Supervision, run_child, supervise};
@@ -139,6 +140,10 @@ pub struct CheckArgs {
     /// Run as the child of a supervising `check`: stream each record into this file.
     #[arg(long, hide = true)]
     child_stream: Option<PathBuf>,
+    /// Run as configuration NAME of a `check --matrix` (its parent sets its environment): the
+    /// reproduce lines name the configuration.
+    #[arg(long, hide = true, value_name = "NAME")]
+    as_configuration: Option<String>,
     /// With --matrix: hold each configuration's outcomes and metrics (timings left out) to its
     /// snapshot, DIR/<name>.json (the repository's: snapshots/matrix); a departure fails the run.
     #[arg(long, value_name = "DIR", requires = "matrix")]
@@ -149,6 +154,22 @@ pub struct CheckArgs {
     update_snapshots: bool,
     #[command(flatten)]
     matrix: MatrixArgs,
+}
+
+/// How to run one case again where this run runs it: this process's driver environment and
+/// adapter selection, or the matrix configuration it runs as (`--as-configuration`).
+fn reproduction(selector: &AdapterSelector, args: &CheckArgs) -> Result<Reproduction> {
+    let reproduction = Reproduction::of_process(COMMAND, selector);
+    let Some(name) = &args.as_configuration else {
+        return Ok(reproduction);
+    };
+    let matrix = args.matrix.load()?;
+    let configuration = matrix.select(name)?[0];
+    let mut flags = vec!["--matrix".to_owned(), name.clone()];
+    if let Some(file) = &args.matrix.adapters_file {
+        flags.extend(["--adapters-file".to_owned(), file.display().to_string()]);
+    }
+    Ok(reproduction.as_configuration(&flags, &configuration.env))
 }
 
 /// Fails now, not after the run, when an output file cannot be written.
@@ -189,8 +210,18 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     if let Some(names) = args.matrix.matrix.clone() {
         return check_matrix(selector, &args, &names, &expectations);
     }
+    let reproduction = reproduction(selector, &args)?;
     if let Some(stream) = &args.child_stream {
-        return run_child_of(selector, &args, stream, &cases, &overrides, shard, rerun.as_deref(), &expectations);
+        let planned = planned_runs(&args, &cases, &overrides, shard, rerun.as_deref());
+        let options = RunOptions {
+            expectations: &expectations,
+            evidence_dir: args.out.as_deref(),
+            reproduction: Some(&reproduction),
+            retries: args.retry,
+            repeats: args.repeat,
+        };
+        run_child(selector, &planned, &options, stream)?;
+        return Ok(ExitCode::SUCCESS);
     }
     // Open (and migrate) the database now: a wrong or newer one is refused before the run.
     let mut database = args.db.as_deref().map(Database::open).transpose()?;
@@ -254,7 +285,7 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     };
     let supervision = Supervision {
         arguments: child_arguments,
-        command: COMMAND,
+        reproduction: &reproduction,
         expectations: &expectations,
         timeout,
         verbose,
@@ -386,31 +417,6 @@ fn failed_runs(path: &Path, flaky_fails: bool) -> Result<Vec<CaseRun<'static>>> 
     Ok(runs)
 }
 
-/// The supervised child: runs the case runs its parent hands it on one device, streaming each
-/// record.
-#[allow(clippy::too_many_arguments)]
-fn run_child_of(
-    selector: &AdapterSelector,
-    args: &CheckArgs,
-    stream: &Path,
-    cases: &[&Case],
-    overrides: &BTreeMap<String, String>,
-    shard: Option<Shard>,
-    rerun: Option<&[CaseRun]>,
-    expectations: &Expectations,
-) -> Result<ExitCode> {
-    let runs = planned_runs(args, cases, overrides, shard, rerun);
-    let options = RunOptions {
-        expectations,
-        evidence_dir: args.out.as_deref(),
-        reproduce_command: args.sweep.is_some().then_some(COMMAND),
-        retries: args.retry,
-        repeats: args.repeat,
-    };
-    run_child(selector, &runs, &options, stream)?;
-    Ok(ExitCode::SUCCESS)
-}
-
 /// One configuration's run against its snapshot at `path` (or, updating, written into it): the
 /// table's word for it and the departures that fail the run.
 fn hold_to_snapshot(
@@ -453,6 +459,9 @@ fn check_matrix(
         args.write_baseline.is_none() && args.rerun_failed.is_none(),
         "--write-baseline and --rerun-failed take one configuration's run: give them without --matrix, per configuration"
     );
+    // A configuration of the matrix file is named in its children's reproduce lines; one found
+    // here is its backend and adapter, which the child's own flags name.
+    let found = names.trim() == "found";
     let (matrix, names) = args.matrix.resolve(names)?;
     let names = names.as_str();
     if let Some(dir) = &args.snapshots {
@@ -479,6 +488,7 @@ fn check_matrix(
             "--adapter",
             "--driver-info",
             "--snapshots",
+            "--as-configuration",
             // The configurations run --jobs at once, each one case at a time.
             "--jobs",
         ],
@@ -487,6 +497,12 @@ fn check_matrix(
     let runs = run_children(&matrix, names, reports, Show::Progress, args.jobs as usize, |configuration| {
         let stem = configuration.file_stem();
         let mut arguments = inherited.clone();
+        if !found {
+            arguments.extend(["--as-configuration".into(), configuration.name.clone().into()]);
+            if let Some(file) = &args.matrix.adapters_file {
+                arguments.extend(["--adapters-file".into(), file.into()]);
+            }
+        }
         arguments.extend(["--json".into(), report_path(&stem).into()]);
         arguments.extend(["--junit".into(), reports.join(format!("{stem}.junit.xml")).into()]);
         if let Some(out) = &args.out {

@@ -10,6 +10,7 @@ pub mod case_lock;
 pub mod child_process;
 pub mod params;
 pub mod registry;
+pub mod reproduce;
 pub mod run;
 pub mod runner;
 pub mod stream;

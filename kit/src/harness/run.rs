@@ -10,6 +10,7 @@ use anyhow::Result;
 
 use super::case::Case;
 use super::case_lock;
+use super::reproduce::Reproduction;
 use super::runner::run_case;
 use super::sweep;
 use crate::diagnostics;
@@ -60,9 +61,9 @@ fn own(case: &Case, mut overrides: BTreeMap<String, String>) -> BTreeMap<String,
 pub struct RunOptions<'a> {
     pub expectations: &'a Expectations,
     pub evidence_dir: Option<&'a Path>,
-    /// Append to a failure the command line that reproduces it, this command (the suite's way
-    /// to run one case: `fragkit check`) with the case and its `--set`s (sweeps).
-    pub reproduce_command: Option<&'a str>,
+    /// Append to a failure the command line that reproduces it: the case, its `--set`s, and
+    /// what chose and shaped the adapter ([`Reproduction`]).
+    pub reproduction: Option<&'a Reproduction>,
     /// Re-run a failed case up to this many times; passing on a retry makes it `flaky`.
     pub retries: u32,
     /// Above 1: after the case's run (its verdict, and the warm-up: it compiles the pipelines
@@ -127,11 +128,17 @@ fn repeated(mut record: CaseRecord, repeats: u32, mut again: impl FnMut() -> Opt
     record
 }
 
-/// A failure's reason with the command line that reproduces it (`command`, where given).
-fn with_reproduce_line(mut record: CaseRecord, command: Option<&str>, run: &CaseRun) -> CaseRecord {
-    if let Some(command) = command.filter(|_| record.outcome.is_failure(true)) {
+/// A failure's reason (a flaky case's too) with the command line that reproduces it on the
+/// adapter of `backend`, where a reproduction is given.
+fn with_reproduce_line(
+    mut record: CaseRecord,
+    reproduction: Option<&Reproduction>,
+    run: &CaseRun,
+    backend: &str,
+) -> CaseRecord {
+    if let Some(reproduction) = reproduction.filter(|_| record.outcome.is_failure(true)) {
         record.reason =
-            format!("{} [reproduce: {}]", record.reason, sweep::reproduce_line(command, run.case, &run.overrides));
+            format!("{} [reproduce: {}]", record.reason, reproduction.line(run.case, &run.overrides, backend));
     }
     record
 }
@@ -165,7 +172,7 @@ pub fn run<'r, 'c: 'r>(
         let again = || gpu.lost().is_none().then(run_once);
         let record = retried(run_once(), options.retries, again);
         let record = repeated(record, options.repeats, again);
-        let record = with_reproduce_line(record, options.reproduce_command, run);
+        let record = with_reproduce_line(record, options.reproduction, run, &gpu.description.backend);
         drop(lock);
         for sink in sinks.iter_mut() {
             sink.record(&record)?;
@@ -295,11 +302,17 @@ mod tests {
             ..Case::passing("kit.a")
         };
         let run = CaseRun { case: &case, overrides: [("n".to_owned(), "2".to_owned())].into() };
+        let environment = [("LP_NATIVE_VECTOR_WIDTH".to_owned(), "128".to_owned())];
+        let reproduction = Reproduction::new("fragkit check", &Default::default(), environment);
         for (outcome, named) in [(Fail, true), (Flaky, true), (Crash, true), (Pass, false), (KnownIssue, false)] {
-            let record = with_reproduce_line(ran(outcome, "why", None), Some("fragkit check"), &run);
-            let expected = if named { "why [reproduce: fragkit check kit.a --set n=2]" } else { "why" };
+            let record = with_reproduce_line(ran(outcome, "why", None), Some(&reproduction), &run, "gl");
+            let expected = if named {
+                "why [reproduce: LP_NATIVE_VECTOR_WIDTH=128 fragkit check kit.a --set n=2 --backend gl]"
+            } else {
+                "why"
+            };
             assert_eq!(record.reason, expected, "{outcome:?}");
         }
-        assert_eq!(with_reproduce_line(ran(Fail, "why", None), None, &run).reason, "why");
+        assert_eq!(with_reproduce_line(ran(Fail, "why", None), None, &run, "gl").reason, "why");
     }
 }

@@ -27,6 +27,7 @@ use fragkit_report::skips::SkipList;
 use super::case::Case;
 use super::child_process::arguments_without;
 use super::params::parse_overrides;
+use super::reproduce::Reproduction;
 use super::run::{RunOptions, plan_runs};
 use super::runner::{check_overrides, select};
 use super::supervise::{CHILD_STREAM, CaseTimeout, Supervision, run_child, supervise};
@@ -155,11 +156,12 @@ impl Suite<'_> {
         check_overrides(&cases, &overrides)?;
         let expectations = Expectations::parse(self.expectations, self.expectations_origin)?;
         let runs = plan_runs(&cases, &overrides, None);
+        let reproduction = Reproduction::of_process(self.name, &arguments.selector);
         if let Some(stream) = &arguments.child_stream {
             let options = RunOptions {
                 expectations: &expectations,
                 evidence_dir: None,
-                reproduce_command: None,
+                reproduction: Some(&reproduction),
                 retries: 0,
                 repeats: 1,
             };
@@ -174,7 +176,7 @@ impl Suite<'_> {
         let supervision = Supervision {
             // The children get this command line, less the report only the parent writes.
             arguments: arguments_without(words, &["--json"], &[]),
-            command: self.name,
+            reproduction: &reproduction,
             expectations: &expectations,
             timeout: arguments.timeout.map_or(CaseTimeout::FromBudget, CaseTimeout::Fixed),
             verbose: arguments.verbose,

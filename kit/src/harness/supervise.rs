@@ -28,10 +28,10 @@ use fragkit_report::skips::SkipList;
 use super::case::Case;
 use super::child_process::{ending, log_tail};
 use super::params::Params;
+use super::reproduce::Reproduction;
 use super::run::{CaseRun, RunOptions, run};
 use super::runner::check_sizes;
 use super::stream::{StreamLine, StreamSink, read_new_lines};
-use super::sweep::reproduce_line;
 use crate::gpu::{AdapterSelector, Gpu};
 
 /// How often the parent looks for new records and children's ends.
@@ -108,8 +108,8 @@ pub struct Supervision<'a> {
     /// writes. The child is this program (`std::env::current_exe`), given `arguments` and then
     /// [`CHILD_STREAM`] FILE, and must answer them with [`run_child`].
     pub arguments: Vec<OsString>,
-    /// The command that runs one case on its own (`fragkit check`), for reproduce lines.
-    pub command: &'a str,
+    /// How to run one case again where it ran, for the reproduce lines of deaths.
+    pub reproduction: &'a Reproduction,
     pub expectations: &'a Expectations,
     pub timeout: CaseTimeout,
     /// Echo what each child logged, after it.
@@ -497,7 +497,7 @@ fn death_record(
     adapter: &AdapterDescription,
     supervision: &Supervision,
 ) -> CaseRecord {
-    let Supervision { command, expectations, timeout, .. } = supervision;
+    let Supervision { reproduction, expectations, timeout, .. } = supervision;
     let DeathReport { death, message: last_error, stderr_tail } = report;
     let (outcome, what) = match death {
         Death::Status(status) => {
@@ -524,14 +524,7 @@ fn death_record(
             let reasons: Vec<&str> = known.iter().map(|k| k.reason.as_str()).collect();
             (ReportedOutcome::KnownIssue, format!("{why} [known: {}]", reasons.join(" | ")))
         }
-        _ => (
-            outcome,
-            format!(
-                "{why} [reproduce: {} --backend {}]",
-                reproduce_line(command, run.case, &run.overrides),
-                adapter.backend
-            ),
-        ),
+        _ => (outcome, format!("{why} [reproduce: {}]", reproduction.line(run.case, &run.overrides, &adapter.backend))),
     };
     CaseRecord {
         params: resolved_params(run),

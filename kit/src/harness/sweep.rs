@@ -44,13 +44,6 @@ pub fn draw(case: &Case, seed: u64, index: u32) -> BTreeMap<String, String> {
         .collect()
 }
 
-/// The command line that reruns one drawn parameter set: `command` (the suite's way to run a
-/// case: `fragkit check`) with the case and each `--set`.
-pub fn reproduce_line(command: &str, case: &Case, overrides: &BTreeMap<String, String>) -> String {
-    let sets: String = overrides.iter().map(|(k, v)| format!(" --set {k}={v}")).collect();
-    format!("{command} {}{sets}", case.name)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -123,14 +116,5 @@ mod tests {
         assert_eq!(log_uniform(&mut rng, 9, 3), 9);
         let mut zero = SeededRng::new(6);
         assert!((0..200).map(|_| log_uniform(&mut zero, 0, 3)).all(|d| d <= 3));
-    }
-
-    #[test]
-    fn the_reproduce_line_names_the_case_and_every_set() {
-        let overrides = BTreeMap::from([("lights".to_owned(), "12".to_owned()), ("size".to_owned(), "3x4".to_owned())]);
-        assert_eq!(
-            reproduce_line("fragkit check", &CASE, &overrides),
-            "fragkit check kit.example --set lights=12 --set size=3x4"
-        );
     }
 }
