@@ -65,7 +65,10 @@ fn a_failure_made_by_the_driver_environment_reproduces_from_its_line() {
     let (outcome, reason) = only_case(&json);
     assert_eq!(outcome, "fail", "{reason}");
     let line = reproduce_line(&reason);
-    assert!(line.starts_with("LP_PERF=no_depth ") && line.contains("fragkit check kit.msaa.sample_positions.1x"), "{line}");
+    assert!(
+        line.starts_with("LP_PERF=no_depth ") && line.contains("fragkit check kit.msaa.sample_positions.1x"),
+        "{line}"
+    );
     assert!(line.ends_with("--backend vulkan") && !line.contains("HOME_IS_NOT"), "{line}");
 
     let again = dir.join("again.json");

@@ -22,6 +22,7 @@ pub mod probe;
 pub mod query;
 mod query_set;
 pub mod readback;
+pub mod readback_log;
 pub mod rects;
 pub mod scene;
 pub mod shaders;

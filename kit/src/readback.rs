@@ -102,7 +102,9 @@ pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, aspect: wgpu::TextureAsp
     for row in padded.chunks_exact(padded_row as usize) {
         bytes.extend_from_slice(&row[..unpadded_row as usize]);
     }
-    Ok(Texels { width, height, bytes_per_texel, bytes })
+    let texels = Texels { width, height, bytes_per_texel, bytes };
+    crate::readback_log::keep(format, mip_level, &texels)?;
+    Ok(texels)
 }
 
 /// Reads an `Rgba8Unorm` texture as an image.

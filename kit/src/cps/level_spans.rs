@@ -125,8 +125,8 @@ fn level_spans(plan: &Plan, rule: &MarkRule, level: usize) -> Vec<Rect> {
     let mut above: Vec<(u32, u32)> = Vec::new();
     let mut above_first = 0;
     let band = BAND;
-    let mut pair = (oy + by) / band * band;
-    while pair < oy + by + bh {
+    // Bands of `band` atlas rows on the atlas's grid, from the one holding the bounds' top.
+    for pair in ((oy + by) / band * band..oy + by + bh).step_by(band as usize) {
         let rows = pair.max(oy + by) - oy..(pair + band).min(oy + by + bh) - oy;
         let marked: Vec<bool> =
             (bx..bx + bw).map(|x| rows.clone().any(|y| rule.may_mark(level as u32, x, y))).collect();
@@ -158,7 +158,6 @@ fn level_spans(plan: &Plan, rule: &MarkRule, level: usize) -> Vec<Rect> {
             rects.extend(runs.iter().map(|&(x0, x1)| Rect::new(x0 as f32, top as f32, x1 as f32, bottom as f32)));
             above = runs;
         }
-        pair += band;
     }
     rects
 }
@@ -296,5 +295,62 @@ mod tests {
             }
         }
         assert!(checked > 20_000, "{checked} texels checked");
+    }
+
+    /// The spans are as tight as their grain allows: their edges on the `BAND` grid or the
+    /// level's bounds; none overlapping, none that could have extended another (same columns,
+    /// one ending where the other starts); every `BAND`-square block of the grid inside one holds
+    /// a texel the marks may mark.
+    #[test]
+    fn spans_hold_no_band_block_the_marks_cannot_mark() {
+        for screen in [(640u32, 360u32), (257, 131), (300, 70)] {
+            let top = screen.0.max(screen.1).next_power_of_two().trailing_zeros().min(8);
+            for (inner_radius, focus) in
+                [(24.0, (0.5, 0.5)), (6.0, (0.3, 0.9)), (100.0, (0.0, 0.0)), (40.0, (0.7, 0.4))]
+            {
+                let policy = LodPolicy::Foveated { focus, inner_radius };
+                let extents: Vec<(u32, u32)> =
+                    (0..=top).map(|l| (screen.0.div_ceil(1 << l), screen.1.div_ceil(1 << l))).collect();
+                let plan = Plan::for_test(screen, top, LevelAtlas::new(&extents), &policy);
+                let spans = LevelSpans::foveated(&plan, &policy);
+                let focus_px = (f64::from(focus.0 * screen.0 as f32), f64::from(focus.1 * screen.1 as f32));
+                let radius = f64::from(inner_radius);
+                let squared_boundaries = (1..=top).map(|k| (radius * f64::from((1u32 << k) - 1)).powi(2)).collect();
+                let rule = MarkRule { screen, focus: focus_px, squared_boundaries };
+                for level in 0..=top as usize {
+                    let (ox, oy, _, _) = plan.atlas.rect(level);
+                    let (bx, by, bw, bh) = plan.level_bounds[level];
+                    let on_grid = |v: f32, lo: u32, hi: u32| v as u32 % BAND == 0 || v as u32 == lo || v as u32 == hi;
+                    let rects = spans.level(level);
+                    for (i, r) in rects.iter().enumerate() {
+                        let what = format!("{screen:?} r {inner_radius} focus {focus:?} level {level}: {r:?}");
+                        assert!(on_grid(r.x0, ox + bx, ox + bx + bw) && on_grid(r.x1, ox + bx, ox + bx + bw), "{what}");
+                        assert!(on_grid(r.y0, oy + by, oy + by + bh) && on_grid(r.y1, oy + by, oy + by + bh), "{what}");
+                        for other in &rects[i + 1..] {
+                            let overlap = r.x0 < other.x1 && other.x0 < r.x1 && r.y0 < other.y1 && other.y0 < r.y1;
+                            assert!(!overlap, "{what} overlaps {other:?}");
+                            let stacked =
+                                (r.x0, r.x1) == (other.x0, other.x1) && (r.y1 == other.y0 || other.y1 == r.y0);
+                            assert!(!stacked, "{what} could have extended {other:?}");
+                        }
+                        let (x0, y0, x1, y1) = (r.x0 as u32, r.y0 as u32, r.x1 as u32, r.y1 as u32);
+                        let mut block_y = y0 / BAND * BAND;
+                        while block_y < y1 {
+                            let rows = block_y.max(y0)..(block_y + BAND).min(y1);
+                            let mut block_x = x0 / BAND * BAND;
+                            while block_x < x1 {
+                                let columns = block_x.max(x0)..(block_x + BAND).min(x1);
+                                let markable = rows
+                                    .clone()
+                                    .any(|y| columns.clone().any(|x| rule.may_mark(level as u32, x - ox, y - oy)));
+                                assert!(markable, "{what}: block at ({block_x}, {block_y}) holds no markable texel");
+                                block_x += BAND;
+                            }
+                            block_y += BAND;
+                        }
+                    }
+                }
+            }
+        }
     }
 }
