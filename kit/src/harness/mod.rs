@@ -4,6 +4,7 @@
 //! (`supervise`), several at once with the timed cases alone (`case_lock`). What a run yields —
 //! records, outcomes, sinks, known issues — is the report model, `fragkit_report`.
 
+pub mod bug_report;
 pub mod capability;
 pub mod case;
 pub mod case_lock;
