@@ -221,4 +221,39 @@ mod tests {
         assert_eq!(levels_to_cover(256), 8);
         assert_eq!(levels_to_cover(300), 9);
     }
+
+    /// The bounds read plainly: the texels holding a pixel centre within R = r (2^(level+1) − 1)
+    /// (1 + 2^-16) + 1 of the focus along each axis, on screen — checked pixel by pixel.
+    #[test]
+    fn foveated_bounds_are_the_box_of_the_widened_disk() {
+        let mut rng = crate::scene::hash::SeededRng::new(52);
+        for _ in 0..300 {
+            let screen = (rng.range(1, 400), rng.range(1, 300));
+            let focus = (rng.unit() * 1.4 - 0.2, rng.unit() * 1.4 - 0.2);
+            let inner_radius: f32 = [0.0, 0.3, 1.0, 2.5, 7.0, 40.0][rng.range(0, 6) as usize];
+            let level = rng.range(0, 6);
+            let reach =
+                f64::from(inner_radius.max(1e-3)) * (f64::from(1u32 << (level + 1)) - 1.0) * (1.0 + 2f64.powi(-16))
+                    + 1.0;
+            let texels = |centre: f64, extent: u32| {
+                let inside: Vec<u32> =
+                    (0..extent).filter(|&p| (f64::from(p) + 0.5 - centre).abs() <= reach).map(|p| p >> level).collect();
+                match (inside.first(), inside.last()) {
+                    (Some(&a), Some(&b)) => (a, b + 1 - a),
+                    // No centre within reach: the nearest edge texel, one wide.
+                    _ => {
+                        let nearest = if centre < 0.0 { 0 } else { (extent - 1) >> level };
+                        (nearest, 1)
+                    }
+                }
+            };
+            let (x0, w) = texels(f64::from(focus.0) * f64::from(screen.0), screen.0);
+            let (y0, h) = texels(f64::from(focus.1) * f64::from(screen.1), screen.1);
+            assert_eq!(
+                foveated_bounds(screen, focus, inner_radius, level),
+                (x0, y0, w, h),
+                "{screen:?} focus {focus:?} r {inner_radius} level {level}"
+            );
+        }
+    }
 }
