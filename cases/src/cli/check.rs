@@ -3,12 +3,14 @@
 //! report, the results database.
 
 use std::collections::BTreeMap;
+use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
 use fragkit::gpu::AdapterSelector;
 use fragkit::harness::Case;
+use fragkit::harness::bug_report::{self, BugReports};
 use fragkit::harness::child_process::{arguments_without, log_tail};
 use fragkit::harness::params::parse_overrides;
 use fragkit::harness::reproduce::Reproduction;
@@ -137,6 +139,15 @@ pub struct CheckArgs {
     /// runs it recorded keep their records, the others run, and the run becomes complete.
     #[arg(long, conflicts_with = "rerun_failed")]
     resume: bool,
+    /// Write a bug report into DIR/<case run>/ for each case run that does not pass: a README in
+    /// the form driver trackers ask for, the evidence, the shaders (WGSL, and what the driver got),
+    /// a capture of the case's own process (apitrace on GL) and a `replay` script that needs only
+    /// the capture tool. With --matrix, DIR/<configuration>/<case run>/.
+    #[arg(long, value_name = "DIR")]
+    bug_report: Option<PathBuf>,
+    /// With --bug-report: known issues get their report too.
+    #[arg(long, requires = "bug_report")]
+    bug_report_known: bool,
     /// Run as the child of a supervising `check`: stream each record into this file.
     #[arg(long, hide = true)]
     child_stream: Option<PathBuf>,
@@ -281,7 +292,12 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
                 adapter.backend
             );
         }
-        accept_adapter(selector, &args.expect_adapter, adapter)
+        accept_adapter(selector, &args.expect_adapter, adapter)?;
+        if args.bug_report.is_some() {
+            // Before any case runs: a report without its capture is not what was asked for.
+            bug_report::capture::check_tool(&adapter.backend)?;
+        }
+        Ok(())
     };
     let supervision = Supervision {
         arguments: child_arguments,
@@ -300,6 +316,9 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
     if let Some(DatabaseSink { database, run_id: Some(id), .. }) = &database {
         println!("recorded as run {id} in {}", database.location());
     }
+    if let Some(dir) = &args.bug_report {
+        write_bug_reports(selector, &args, dir, &report, &runs, &reproduction, &expectations, timeout)?;
+    }
     if let Some(path) = &args.write_baseline {
         std::fs::write(path, baseline(&report, &info))
             .with_context(|| format!("writing the baseline {}", path.display()))?;
@@ -316,6 +335,67 @@ pub fn check(selector: &AdapterSelector, args: CheckArgs, verbose: bool) -> Resu
         counted(failures, "unexpected failure", "unexpected failures")
     );
     Ok(if failures == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}
+
+/// `--bug-report DIR`: a folder per case run that did not pass (known issues too with
+/// `--bug-report-known`), each from the case run again alone in a child of its own under the
+/// backend's capture tool.
+#[allow(clippy::too_many_arguments)]
+fn write_bug_reports(
+    selector: &AdapterSelector,
+    args: &CheckArgs,
+    dir: &Path,
+    report: &Report,
+    runs: &[CaseRun],
+    reproduction: &Reproduction,
+    expectations: &Expectations,
+    timeout: CaseTimeout,
+) -> Result<()> {
+    let backend = report.adapter.backend.clone();
+    let child_arguments = |run: &CaseRun, evidence: &Path| -> Vec<OsString> {
+        let mut words: Vec<OsString> = vec!["--backend".into(), backend.clone().into()];
+        for (flag, value) in [("--adapter", &selector.adapter_name), ("--driver-info", &selector.driver_info)] {
+            if let Some(value) = value {
+                words.extend([flag.into(), value.into()]);
+            }
+        }
+        if selector.validation {
+            words.push("--validation".into());
+        }
+        words.extend(["check".into(), run.case.name.into()]);
+        for (key, value) in &run.overrides {
+            words.extend(["--set".into(), format!("{key}={value}").into()]);
+        }
+        for path in args
+            .expectations
+            .iter()
+            .map(|p| ("--expectations", p))
+            .chain(args.baseline.iter().map(|p| ("--baseline", p)))
+        {
+            words.extend([path.0.into(), path.1.into()]);
+        }
+        words.extend(["--out".into(), evidence.into()]);
+        words
+    };
+    let reports = BugReports {
+        dir,
+        known: args.bug_report_known,
+        program: std::env::current_exe().context("finding this program to run the bug reports' cases")?,
+        child_arguments: &child_arguments,
+        reproduction,
+        expectations,
+        timeout,
+    };
+    let written = reports.write(report, runs)?;
+    for one in &written {
+        let note =
+            if one.departures.is_empty() { "" } else { " (the captured run departs from the first: see its README)" };
+        println!("bug report: {}{note}", one.folder.display());
+    }
+    if written.is_empty() {
+        println!("bug reports: no case run to report in {}", dir.display());
+    }
+    Ok(())
 }
 
 /// The interrupted run `--resume` continues: the newest interrupted check run of --db (with its
@@ -489,6 +569,7 @@ fn check_matrix(
             "--driver-info",
             "--snapshots",
             "--as-configuration",
+            "--bug-report",
             // The configurations run --jobs at once, each one case at a time.
             "--jobs",
         ],
@@ -502,6 +583,9 @@ fn check_matrix(
             if let Some(file) = &args.matrix.adapters_file {
                 arguments.extend(["--adapters-file".into(), file.into()]);
             }
+        }
+        if let Some(dir) = &args.bug_report {
+            arguments.extend(["--bug-report".into(), dir.join(&stem).into()]);
         }
         arguments.extend(["--json".into(), report_path(&stem).into()]);
         arguments.extend(["--junit".into(), reports.join(format!("{stem}.junit.xml")).into()]);

@@ -320,7 +320,8 @@ mod tests {
                 for level in 0..=top as usize {
                     let (ox, oy, _, _) = plan.atlas.rect(level);
                     let (bx, by, bw, bh) = plan.level_bounds[level];
-                    let on_grid = |v: f32, lo: u32, hi: u32| v as u32 % BAND == 0 || v as u32 == lo || v as u32 == hi;
+                    let on_grid =
+                        |v: f32, lo: u32, hi: u32| (v as u32).is_multiple_of(BAND) || v as u32 == lo || v as u32 == hi;
                     let rects = spans.level(level);
                     for (i, r) in rects.iter().enumerate() {
                         let what = format!("{screen:?} r {inner_radius} focus {focus:?} level {level}: {r:?}");

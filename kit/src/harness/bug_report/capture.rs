@@ -1,0 +1,225 @@
+//! The case run again for its bug report, alone in a child process of its own, under the
+//! backend's capture tool where the kit has one: apitrace for GL (the child's EGL and GL calls,
+//! replayable headless with `eglretrace`). The child also keeps what the case read back
+//! (`FRAGKIT_READBACK_DIR`) and its evidence images; its record is held to the first run's.
+
+use std::ffi::OsString;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, bail};
+use fragkit_report::report::{CaseRecord, is_timing_metric};
+
+use super::super::stream::{StreamLine, read_new_lines};
+use crate::readback_log::READBACK_DIR_ENV;
+
+/// A capture tool: what runs the child under it, and where it comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CaptureTool {
+    /// The program that records (`apitrace`).
+    pub program: &'static str,
+    /// The program a replay needs (`eglretrace`).
+    pub replayer: &'static str,
+    /// The Debian package holding both.
+    pub package: &'static str,
+}
+
+/// apitrace 11.1 (Debian 12): `apitrace trace --api egl` records the GL calls of the process it
+/// starts; `eglretrace` replays them.
+pub const APITRACE: CaptureTool = CaptureTool { program: "apitrace", replayer: "eglretrace", package: "apitrace" };
+
+/// The tool that captures a run on `backend`, or why there is none.
+pub fn tool_for(backend: &str) -> Result<CaptureTool, &'static str> {
+    match backend {
+        "gl" => Ok(APITRACE),
+        "vulkan" => Err(VULKAN_NOT_CAPTURED),
+        _ => Err("the kit captures GL runs (apitrace) only"),
+    }
+}
+
+/// Why a Vulkan run's report holds no capture yet.
+pub const VULKAN_NOT_CAPTURED: &str = "no Vulkan capture yet: gfxreconstruct 0.9.18 replays and screenshots by presented \
+     frame and the kit never presents (its replay of a capture says \"File did not contain any frames\"), and under its \
+     layer lavapipe's kit.scissor.msaa changed its outcome; RenderDoc's in-app capture (wgpu's \
+     start_graphics_debugger_capture) is the way still to try";
+
+/// Whether `program` runs here (found on the PATH).
+pub fn on_path(program: &str) -> bool {
+    std::env::var_os("PATH").is_some_and(|paths| std::env::split_paths(&paths).any(|dir| dir.join(program).is_file()))
+}
+
+/// An error naming the package where `backend`'s capture tool is missing.
+pub fn check_tool(backend: &str) -> Result<()> {
+    if let Ok(tool) = tool_for(backend) {
+        for program in [tool.program, tool.replayer] {
+            if !on_path(program) {
+                bail!(
+                    "--bug-report on the {backend} backend captures with {}, and {program} is not on the PATH (Debian: apt-get install {})",
+                    tool.program,
+                    tool.package
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The case's second run.
+pub struct CapturedRun {
+    /// Its record, where the child wrote one.
+    pub record: Option<CaseRecord>,
+    /// The capture file, where a tool made one.
+    pub trace: Option<PathBuf>,
+    /// The tool, or why none ran.
+    pub tool: Result<CaptureTool, &'static str>,
+    /// What the child and the tool wrote on stderr, last lines.
+    pub stderr_tail: String,
+    /// How it ended, where not with a record.
+    pub ending: Option<String>,
+}
+
+/// Runs `program arguments` (a supervised child's command line for one case run, streaming
+/// into `folder/capture/record.stream`) under `backend`'s capture tool, handed case run 0,
+/// keeping its read-backs in `folder/readbacks`; kills it after `timeout`.
+pub fn rerun(
+    program: &Path,
+    arguments: &[OsString],
+    backend: &str,
+    folder: &Path,
+    timeout: Duration,
+) -> Result<CapturedRun> {
+    let capture = folder.join("capture");
+    let readbacks = folder.join("readbacks");
+    for dir in [&capture, &readbacks] {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let stream = capture.join("record.stream");
+    let tool = tool_for(backend);
+    let trace = capture.join("case.trace");
+    let mut command = match tool {
+        Ok(APITRACE) => {
+            let mut command = Command::new(APITRACE.program);
+            command.args(["trace", "--api", "egl", "--output"]).arg(&trace).arg(program);
+            command
+        }
+        _ => Command::new(program),
+    };
+    command
+        .args(arguments)
+        .arg("--child-stream")
+        .arg(&stream)
+        .env(READBACK_DIR_ENV, &readbacks)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped());
+    let mut child =
+        command.spawn().with_context(|| format!("starting {:?} for the bug report", command.get_program()))?;
+    child.stdin.take().context("the child's stdin")?.write_all(b"0\n").context("handing the case run to the child")?;
+    let mut stderr = child.stderr.take().context("the child's stderr")?;
+    let reader = std::thread::spawn(move || {
+        let mut text = String::new();
+        std::io::Read::read_to_string(&mut stderr, &mut text).ok();
+        text
+    });
+    let started = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().context("waiting for the bug report's run")? {
+            break Some(status);
+        }
+        if started.elapsed() > timeout {
+            child.kill().ok();
+            child.wait().ok();
+            break None;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let stderr_text = reader.join().unwrap_or_default();
+    let (lines, _) = read_new_lines(&stream, 0)?;
+    let record = lines.into_iter().find_map(|line| match line {
+        StreamLine::Record(record) => Some(*record),
+        _ => None,
+    });
+    let ending = match status {
+        None => Some(format!("killed after {} s without a record", timeout.as_secs())),
+        Some(status) if record.is_none() => Some(format!("ended ({status}) without a record")),
+        Some(_) => None,
+    };
+    let tail: Vec<&str> = stderr_text.lines().rev().take(20).collect();
+    Ok(CapturedRun {
+        record,
+        trace: (tool.is_ok() && trace.is_file()).then_some(trace),
+        tool,
+        stderr_tail: tail.into_iter().rev().collect::<Vec<_>>().join("\n"),
+        ending,
+    })
+}
+
+/// How the second run's record departs from the first's: its outcome, and each metric (timings
+/// left out) that differs; empty where they agree.
+pub fn departures(first: &CaseRecord, second: &CaseRecord) -> Vec<String> {
+    let mut departures = Vec::new();
+    if first.outcome != second.outcome {
+        departures.push(format!(
+            "outcome {} where the first run was {}",
+            second.outcome.label(),
+            first.outcome.label()
+        ));
+    }
+    let untimed = |record: &CaseRecord| {
+        let mut metrics = record.numeric_metrics();
+        metrics.retain(|name, _| !is_timing_metric(name.split('.').next().unwrap_or_default()));
+        metrics
+    };
+    let (a, b) = (untimed(first), untimed(second));
+    for name in a.keys().chain(b.keys().filter(|k| !a.contains_key(*k))) {
+        match (a.get(name), b.get(name)) {
+            (Some(x), Some(y)) if x.to_bits() == y.to_bits() => {}
+            (x, y) => departures.push(format!("{name}: {} where the first run had {}", shown(y), shown(x))),
+        }
+    }
+    departures
+}
+
+fn shown(value: Option<&f64>) -> String {
+    value.map_or_else(|| "nothing".to_owned(), |v| v.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use fragkit_report::report::ReportedOutcome;
+
+    use super::*;
+
+    fn record(outcome: ReportedOutcome, metrics: &[(&str, f64)]) -> CaseRecord {
+        let mut record = CaseRecord::unmeasured("kit.a", outcome, "why");
+        record.metrics = metrics.iter().map(|(k, v)| ((*k).to_owned(), serde_json::json!(v))).collect();
+        record
+    }
+
+    #[test]
+    fn a_second_run_departs_in_its_outcome_or_any_untimed_metric() {
+        use ReportedOutcome::*;
+        let first = record(Fail, &[("wrong", 3.0), ("gpu_ms", 1.0), ("time_ratio", 2.0)]);
+        assert!(departures(&first, &record(Fail, &[("wrong", 3.0), ("gpu_ms", 9.0)])).is_empty());
+        assert_eq!(
+            departures(&first, &record(Pass, &[("wrong", 0.0), ("extra", 1.0)])),
+            [
+                "outcome pass where the first run was FAIL",
+                "wrong: 0 where the first run had 3",
+                "extra: 1 where the first run had nothing"
+            ]
+        );
+    }
+
+    #[test]
+    fn gl_runs_are_captured_with_apitrace_and_vulkan_runs_say_why_not() {
+        assert_eq!(tool_for("gl"), Ok(APITRACE));
+        assert!(tool_for("vulkan").unwrap_err().contains("gfxreconstruct"));
+        assert!(tool_for("metal").is_err());
+        assert!(on_path("sh") && !on_path("no-such-program-here"));
+        // No tool needed where none captures.
+        assert!(check_tool("vulkan").is_ok());
+    }
+}
