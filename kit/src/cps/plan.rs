@@ -177,7 +177,8 @@ impl Plan {
 
 #[cfg(test)]
 mod tests {
-    use super::{foveated_bounds, levels_to_cover};
+    use super::{bounds_of_levels, foveated_bounds, levels_to_cover};
+    use crate::cps::config::LodPolicy;
     use crate::cps::lod_model::foveated;
 
     #[test]
@@ -255,5 +256,29 @@ mod tests {
                 "{screen:?} focus {focus:?} r {inner_radius} level {level}"
             );
         }
+    }
+
+    /// Under the foveated policy with a stencil pyramid, each level below the top is drawn
+    /// within its disk's box and the top whole; without the pyramid, or under another policy,
+    /// every level whole.
+    #[test]
+    fn only_foveated_levels_below_the_top_are_bounded() {
+        let screen = (200u32, 120u32);
+        let extents: Vec<(u32, u32)> =
+            (0..=5).map(|l| (screen.0.div_ceil(1 << l), screen.1.div_ceil(1 << l))).collect();
+        let foveated = LodPolicy::Foveated { focus: (0.5, 0.5), inner_radius: 4.0 };
+        let bounded = bounds_of_levels(screen, &extents, &foveated, true);
+        for level in 0..5 {
+            assert_eq!(bounded[level], foveated_bounds(screen, (0.5, 0.5), 4.0, level as u32), "level {level}");
+            // Level 4's disk (radius 4 · 31 px) covers the screen.
+            if level < 4 {
+                assert_ne!(bounded[level], (0, 0, extents[level].0, extents[level].1), "level {level} is bounded");
+            }
+        }
+        assert_eq!(bounded[5], (0, 0, extents[5].0, extents[5].1));
+        let whole: Vec<(u32, u32, u32, u32)> = extents.iter().map(|&(w, h)| (0, 0, w, h)).collect();
+        assert_eq!(bounds_of_levels(screen, &extents, &foveated, false), whole);
+        let content = LodPolicy::Content { normal_cos: 0.9, depth_ratio: 0.05 };
+        assert_eq!(bounds_of_levels(screen, &extents, &content, true), whole);
     }
 }

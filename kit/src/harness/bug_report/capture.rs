@@ -10,6 +10,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
+use fragkit_report::expectations::FailureKind;
 use fragkit_report::report::{CaseRecord, is_timing_metric};
 
 use super::super::stream::{StreamLine, read_new_lines};
@@ -77,7 +78,25 @@ pub struct CapturedRun {
     /// What the child and the tool wrote on stderr, last lines.
     pub stderr_tail: String,
     /// How it ended, where not with a record.
-    pub ending: Option<String>,
+    pub death: Option<Death>,
+}
+
+/// How a second run ended without a record.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Death {
+    /// It ended: its exit status or signal.
+    Ended(String),
+    /// The timeout passed (seconds) and it was killed.
+    TimedOut(u64),
+}
+
+impl std::fmt::Display for Death {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Ended(status) => write!(f, "ended ({status}) without a record"),
+            Self::TimedOut(seconds) => write!(f, "was killed after {seconds} s without a record"),
+        }
+    }
 }
 
 /// Runs `program arguments` (a supervised child's command line for one case run, streaming
@@ -141,10 +160,10 @@ pub fn rerun(
         StreamLine::Record(record) => Some(*record),
         _ => None,
     });
-    let ending = match status {
-        None => Some(format!("killed after {} s without a record", timeout.as_secs())),
-        Some(status) if record.is_none() => Some(format!("ended ({status}) without a record")),
-        Some(_) => None,
+    let death = match status {
+        _ if record.is_some() => None,
+        None => Some(Death::TimedOut(timeout.as_secs())),
+        Some(status) => Some(Death::Ended(status.to_string())),
     };
     let tail: Vec<&str> = stderr_text.lines().rev().take(20).collect();
     Ok(CapturedRun {
@@ -152,13 +171,33 @@ pub fn rerun(
         trace: (tool.is_ok() && trace.is_file()).then_some(trace),
         tool,
         stderr_tail: tail.into_iter().rev().collect::<Vec<_>>().join("\n"),
-        ending,
+        death,
     })
+}
+
+/// How the second run departs from the first: a death where the first died the same way (a
+/// crash's, a timeout's) departs in nothing; a record, as [`record_departures`] says.
+pub fn departures(first: &CaseRecord, second: &CapturedRun) -> Vec<String> {
+    match (&second.record, &second.death) {
+        (Some(record), _) => record_departures(first, record),
+        (None, Some(death)) => {
+            let same = match (FailureKind::of(&first.reason), death) {
+                (FailureKind::Crash, Death::Ended(_)) | (FailureKind::Timeout, Death::TimedOut(_)) => true,
+                _ => false,
+            };
+            if same {
+                Vec::new()
+            } else {
+                vec![format!("the captured run {death}; the first run was {}", first.outcome.label())]
+            }
+        }
+        (None, None) => vec!["the captured run wrote no record".to_owned()],
+    }
 }
 
 /// How the second run's record departs from the first's: its outcome, and each metric (timings
 /// left out) that differs; empty where they agree.
-pub fn departures(first: &CaseRecord, second: &CaseRecord) -> Vec<String> {
+pub fn record_departures(first: &CaseRecord, second: &CaseRecord) -> Vec<String> {
     let mut departures = Vec::new();
     if first.outcome != second.outcome {
         departures.push(format!(
@@ -202,15 +241,39 @@ mod tests {
     fn a_second_run_departs_in_its_outcome_or_any_untimed_metric() {
         use ReportedOutcome::*;
         let first = record(Fail, &[("wrong", 3.0), ("gpu_ms", 1.0), ("time_ratio", 2.0)]);
-        assert!(departures(&first, &record(Fail, &[("wrong", 3.0), ("gpu_ms", 9.0)])).is_empty());
+        assert!(record_departures(&first, &record(Fail, &[("wrong", 3.0), ("gpu_ms", 9.0)])).is_empty());
         assert_eq!(
-            departures(&first, &record(Pass, &[("wrong", 0.0), ("extra", 1.0)])),
+            record_departures(&first, &record(Pass, &[("wrong", 0.0), ("extra", 1.0)])),
             [
                 "outcome pass where the first run was FAIL",
                 "wrong: 0 where the first run had 3",
                 "extra: 1 where the first run had nothing"
             ]
         );
+    }
+
+    /// A second run that dies departs in nothing where the first died the same way.
+    #[test]
+    fn a_death_matches_a_first_run_that_died_the_same_way() {
+        let died =
+            |death| CapturedRun { record: None, trace: None, tool: Err("none"), stderr_tail: String::new(), death };
+        let crash =
+            CaseRecord::unmeasured("kit.a", ReportedOutcome::KnownIssue, "crash: killed by signal 6 [known: x]");
+        let timeout = CaseRecord::unmeasured("kit.a", ReportedOutcome::Timeout, "timeout: no record for 30 s");
+        let fail = record(ReportedOutcome::Fail, &[]);
+        let ended = died(Some(Death::Ended("signal: 6 (SIGABRT)".into())));
+        let killed = died(Some(Death::TimedOut(30)));
+        assert!(departures(&crash, &ended).is_empty());
+        assert!(departures(&timeout, &killed).is_empty());
+        assert_eq!(
+            departures(&crash, &killed),
+            ["the captured run was killed after 30 s without a record; the first run was known_issue"]
+        );
+        assert_eq!(
+            departures(&fail, &ended),
+            ["the captured run ended (signal: 6 (SIGABRT)) without a record; the first run was FAIL"]
+        );
+        assert_eq!(departures(&fail, &died(None)), ["the captured run wrote no record"]);
     }
 
     #[test]

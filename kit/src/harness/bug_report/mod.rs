@@ -100,10 +100,7 @@ impl BugReports<'_> {
         std::fs::create_dir_all(&folder).with_context(|| format!("creating {}", folder.display()))?;
         let arguments = (self.child_arguments)(run, &folder.join("evidence"));
         let captured = capture::rerun(&self.program, &arguments, &adapter.backend, &folder, self.timeout.of(run.case))?;
-        let departures = match &captured.record {
-            Some(second) => capture::departures(record, second),
-            None => vec![captured.ending.clone().unwrap_or_else(|| "no record".to_owned())],
-        };
+        let departures = capture::departures(record, &captured);
         let reading = match &captured.trace {
             Some(trace) => read_apitrace(trace)?,
             None => TraceReading::default(),

@@ -12,6 +12,7 @@ use super::capture::CapturedRun;
 use super::shaders::WrittenShader;
 use super::{KitReadback, Replay};
 use crate::harness::Case;
+use crate::harness::reproduce::is_driver_variable;
 
 /// Everything the README says.
 pub struct Readme<'a> {
@@ -60,6 +61,13 @@ impl Readme<'_> {
             "## Driver\n\n- adapter: {}\n- backend: {}\n- driver: {}\n- driver info (version): {}\n- device type: {}\n",
             adapter.name, adapter.backend, adapter.driver, adapter.driver_info, adapter.device_type
         );
+        let environment: Vec<String> = std::env::vars()
+            .filter(|(name, _)| is_driver_variable(name))
+            .map(|(name, value)| format!("{name}={value}"))
+            .collect();
+        if !environment.is_empty() {
+            let _ = writeln!(t, "The driver stack's variables of the run:\n\n```\n{}\n```\n", environment.join("\n"));
+        }
         t.push_str("## Whose fault\n\n");
         if self.known.is_empty() {
             t.push_str(
@@ -116,7 +124,13 @@ impl Readme<'_> {
                 let _ = writeln!(t, "No capture: {} wrote no trace (its stderr is below).\n", tool.program);
             }
         }
-        if self.departures.is_empty() {
+        if let (true, Some(death)) = (self.departures.is_empty(), &captured.death) {
+            let _ = writeln!(
+                t,
+                "The captured run died as the first did: it {death}.\n\n```\n{}\n```\n",
+                captured.stderr_tail
+            );
+        } else if self.departures.is_empty() {
             t.push_str("The captured run's outcome and metrics (timings left out) equal the first run's.\n\n");
         } else {
             t.push_str("**The captured run departs from the first run** — the capture changes the result:\n\n");

@@ -39,11 +39,14 @@ pub fn write_shaders(
         let wgsl = format!("wgsl/{}", file.path);
         write(dir, &wgsl, file.assembled().as_bytes())?;
         written.push(WrittenShader {
-            path: wgsl,
+            path: wgsl.clone(),
             about: format!("the WGSL the kit compiles ({}), common snippets first", file.module),
         });
         if backend == "vulkan" {
-            written.extend(write_spirv(dir, file)?);
+            match write_spirv(dir, file) {
+                Ok(spirv) => written.extend(spirv),
+                Err(e) => written.push(WrittenShader { path: wgsl.clone(), about: format!("no SPIR-V of it: {e:#}") }),
+            }
         }
     }
     // Each distinct shader once (a case builds the same pipeline for each of its runs).
@@ -84,13 +87,17 @@ fn write_spirv(dir: &Path, file: &ShaderFile) -> Result<Vec<WrittenShader>> {
     let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
         .validate(&module)
         .with_context(|| format!("naga validating {}", file.path))?;
+    // Override constants at their defaults (the pipelines may set others: the specialisation of
+    // each pipeline is in the capture, not here).
+    let (module, info) = naga::back::pipeline_constants::process_overrides(&module, &info, None, &Default::default())
+        .with_context(|| format!("naga giving {}'s override constants their defaults", file.path))?;
     let words = naga::back::spv::write_vec(&module, &info, &naga::back::spv::Options::default(), None)
         .with_context(|| format!("naga writing SPIR-V of {}", file.path))?;
     let spv = format!("spirv/{}.spv", file.path.trim_end_matches(".wgsl"));
     write(dir, &spv, &words.iter().flat_map(|w| w.to_le_bytes()).collect::<Vec<u8>>())?;
     let mut written = vec![WrittenShader {
         path: spv.clone(),
-        about: "SPIR-V naga (wgpu 30's) writes for the whole module with its default options (wgpu-hal's own differ in bounds-check policy and debug info)".to_owned(),
+        about: "SPIR-V naga (wgpu 30's) writes for the whole module with its default options and override constants at their defaults (wgpu-hal's own options differ in bounds-check policy and debug info; each pipeline sets its constants)".to_owned(),
     }];
     let text = format!("{}.spvasm", spv.trim_end_matches(".spv"));
     let disassembled = Command::new("spirv-dis").arg(dir.join(&spv)).arg("-o").arg(dir.join(&text)).output();
