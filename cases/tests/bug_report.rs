@@ -73,17 +73,11 @@ fn a_gl_known_issue_replays_its_failing_pixels_without_fragkit() {
         "fragkit check kit.scissor.msaa --backend gl",
         "The captured run's outcome and metrics (timings left out) equal the first run's.",
         "shaders/glsl/",
+        "equal to the kit's, pixel for pixel",
     ] {
         assert!(readme.contains(expected), "README lacks {expected:?}:\n{readme}");
     }
-    let replay = Command::new(folder.join("replay"))
-        .env_clear()
-        .env("PATH", "/usr/bin:/bin")
-        .env("HOME", std::env::var("HOME").unwrap_or_default())
-        .env("XDG_RUNTIME_DIR", std::env::var("XDG_RUNTIME_DIR").unwrap_or_else(|_| "/tmp".into()))
-        .output()
-        .unwrap();
-    assert!(replay.status.success(), "{}", String::from_utf8_lossy(&replay.stderr));
+    replay_bare(&folder);
     let mut compared = 0;
     for entry in std::fs::read_dir(folder.join("readbacks")).unwrap() {
         let kit = entry.unwrap().path();
@@ -99,10 +93,44 @@ fn a_gl_known_issue_replays_its_failing_pixels_without_fragkit() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// On Vulkan the report has no capture yet and says why; its shaders are naga's SPIR-V with
-/// spirv-dis's text.
+/// Whether RenderDoc's capture tool and Python module are installed; without them the Vulkan test
+/// is skipped with a note, except under CI (`.ci/setup` installs them).
+fn have_renderdoc() -> bool {
+    let found = Command::new("sh")
+        .args([
+            "-c",
+            "command -v renderdoccmd && (/usr/bin/python3 -c 'import renderdoc' || python3 -c 'import renderdoc')",
+        ])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !found {
+        assert!(std::env::var_os("CI").is_none(), "CI must test Vulkan bug reports: .ci/setup installs RenderDoc");
+        eprintln!("note: RenderDoc is not installed (apt-get install renderdoccmd python3-renderdoc): test skipped");
+    }
+    found
+}
+
+/// Runs a report folder's `replay` from the folder with only /usr/bin and /bin on the PATH.
+fn replay_bare(folder: &Path) {
+    let replay = Command::new(folder.join("replay"))
+        .env_clear()
+        .env("PATH", "/usr/bin:/bin")
+        .env("HOME", std::env::var("HOME").unwrap_or_default())
+        .env("XDG_RUNTIME_DIR", std::env::var("XDG_RUNTIME_DIR").unwrap_or_else(|_| "/tmp".into()))
+        .output()
+        .unwrap();
+    assert!(replay.status.success(), "{}", String::from_utf8_lossy(&replay.stderr));
+}
+
+/// lavapipe's scissored 4x draw (a known driver issue of `kit.scissor.msaa`): RenderDoc's
+/// capture of the case's GPU work replays with RenderDoc's Python module alone and shows every
+/// texture the case read back as the kit read it; the shaders are naga's SPIR-V with spirv-dis's
+/// text.
 #[test]
-fn a_vulkan_report_says_why_it_has_no_capture_and_holds_the_spirv() {
+fn a_vulkan_driver_issue_replays_its_failing_pixels_with_renderdoc_alone() {
+    if !have_renderdoc() {
+        return;
+    }
     let dir = scratch("vulkan");
     let (code, text) = fragkit(
         &[
@@ -119,11 +147,26 @@ fn a_vulkan_report_says_why_it_has_no_capture_and_holds_the_spirv() {
     assert_eq!(code, 0, "{text}");
     let folder = only_folder(&dir);
     let readme = std::fs::read_to_string(folder.join("README.md")).unwrap();
-    assert!(readme.contains("No capture: no Vulkan capture yet") && readme.contains("gfxreconstruct"), "{readme}");
+    for expected in
+        ["driver (lavapipe", "capture/case.rdc", "equal to the kit's, pixel for pixel", "equal the first run's"]
+    {
+        assert!(readme.contains(expected), "README lacks {expected:?}:\n{readme}");
+    }
     assert!(folder.join("shaders/spirv/kit/rect.spv").is_file());
     let disassembly = std::fs::read_to_string(folder.join("shaders/spirv/kit/rect.spvasm")).unwrap();
     assert!(disassembly.contains("OpEntryPoint"), "{disassembly}");
-    assert!(!folder.join("replay").exists());
+    replay_bare(&folder);
+    let mut compared = 0;
+    for entry in std::fs::read_dir(folder.join("readbacks")).unwrap() {
+        let kit = entry.unwrap().path();
+        if kit.extension().is_none_or(|e| e != "png") {
+            continue;
+        }
+        let replayed = rgba(&folder.join("replayed").join(kit.file_name().unwrap()));
+        assert_eq!(replayed, rgba(&kit), "{} differs from its replay", kit.display());
+        compared += 1;
+    }
+    assert_eq!(compared, 3, "the case reads back three RGBA8 textures");
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -143,5 +186,11 @@ fn passes_get_no_folder_and_a_missing_tool_exits_2_naming_its_package() {
     );
     assert_eq!(code, 2, "{text}");
     assert!(text.contains("apt-get install apitrace") && !text.contains("kit.hash.values "), "{text}");
+    let (code, text) = fragkit(
+        &["--backend", "vulkan", "check", "kit.hash.values", "--bug-report", dir.to_str().unwrap()],
+        Some("/nonexistent"),
+    );
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("apt-get install renderdoccmd python3-renderdoc"), "{text}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -14,6 +14,7 @@ pub mod diagnostics;
 mod encoder_clock;
 pub mod fullscreen;
 pub mod gpu;
+pub mod graphics_debugger;
 pub mod harness;
 pub mod image_compare;
 pub mod mapping;

@@ -123,7 +123,9 @@ pub fn run_case(
     } else if !missing.is_empty() {
         Outcome::NotSupported(format!("adapter lacks {missing:?}"))
     } else {
-        let guarded = catch_unwind(AssertUnwindSafe(|| gpu.scoped(case.name, || (case.run)(&mut ctx))));
+        let guarded = catch_unwind(AssertUnwindSafe(|| {
+            crate::graphics_debugger::bracket(gpu, || gpu.scoped(case.name, || (case.run)(&mut ctx)))
+        }));
         match guarded {
             Ok(Ok(outcome)) => outcome,
             Ok(Err(error)) => {

@@ -14,37 +14,59 @@ use fragkit_report::expectations::FailureKind;
 use fragkit_report::report::{CaseRecord, is_timing_metric};
 
 use super::super::stream::{StreamLine, read_new_lines};
+use crate::graphics_debugger::DEBUGGER_CAPTURE_ENV;
 use crate::readback_log::READBACK_DIR_ENV;
 
 /// A capture tool: what runs the child under it, and where it comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CaptureTool {
-    /// The program that records (`apitrace`).
+    /// The program that records (`apitrace`, `renderdoccmd`).
     pub program: &'static str,
-    /// The program a replay needs (`eglretrace`).
+    /// What a replay needs (`eglretrace`; RenderDoc's Python module).
     pub replayer: &'static str,
-    /// The Debian package holding both.
-    pub package: &'static str,
+    /// The Debian packages holding them.
+    pub packages: &'static str,
+    /// The capture's file name in the report's `capture/`.
+    pub file: &'static str,
 }
 
 /// apitrace 11.1 (Debian 12): `apitrace trace --api egl` records the GL calls of the process it
 /// starts; `eglretrace` replays them.
-pub const APITRACE: CaptureTool = CaptureTool { program: "apitrace", replayer: "eglretrace", package: "apitrace" };
+pub const APITRACE: CaptureTool =
+    CaptureTool { program: "apitrace", replayer: "eglretrace", packages: "apitrace", file: "case.trace" };
+
+/// RenderDoc 1.24 (Debian 12): `renderdoccmd capture` loads it into the process it starts, and
+/// the runner brackets the case's GPU work with its in-application capture (wgpu's
+/// `start_graphics_debugger_capture`); its Python module replays the capture headless.
+/// gfxreconstruct 0.9.18 is not used: its replay goes frame by frame, from one present to the
+/// next, and the kit never presents ("File did not contain any frames"); and under its default
+/// memory tracking (`page_guard`) lavapipe's `kit.scissor.msaa` changes its result (1x: 640
+/// pixels differ; the 4x target does not render) where with `GFXRECON_MEMORY_TRACKING_MODE`
+/// `assisted` or `unassisted` it does not: the page guard's shadow copies of mapped memory are
+/// at fault, not the driver.
+pub const RENDERDOC: CaptureTool = CaptureTool {
+    program: "renderdoccmd",
+    replayer: "python3's renderdoc module",
+    packages: "renderdoccmd python3-renderdoc",
+    file: "case.rdc",
+};
 
 /// The tool that captures a run on `backend`, or why there is none.
 pub fn tool_for(backend: &str) -> Result<CaptureTool, &'static str> {
     match backend {
         "gl" => Ok(APITRACE),
-        "vulkan" => Err(VULKAN_NOT_CAPTURED),
-        _ => Err("the kit captures GL runs (apitrace) only"),
+        "vulkan" => Ok(RENDERDOC),
+        _ => Err("the kit captures GL (apitrace) and Vulkan (RenderDoc) runs only"),
     }
 }
 
-/// Why a Vulkan run's report holds no capture yet.
-pub const VULKAN_NOT_CAPTURED: &str = "no Vulkan capture yet: gfxreconstruct 0.9.18 replays and screenshots by presented \
-     frame and the kit never presents (its replay of a capture says \"File did not contain any frames\"), and under its \
-     layer lavapipe's kit.scissor.msaa changed its outcome; RenderDoc's in-app capture (wgpu's \
-     start_graphics_debugger_capture) is the way still to try";
+/// The Python that has RenderDoc's module (Debian's is the system one, whatever else is first on
+/// the PATH), or None.
+pub fn renderdoc_python() -> Option<&'static str> {
+    ["/usr/bin/python3", "python3"]
+        .into_iter()
+        .find(|python| Command::new(python).args(["-c", "import renderdoc"]).output().is_ok_and(|o| o.status.success()))
+}
 
 /// Whether `program` runs here (found on the PATH).
 pub fn on_path(program: &str) -> bool {
@@ -53,16 +75,24 @@ pub fn on_path(program: &str) -> bool {
 
 /// An error naming the package where `backend`'s capture tool is missing.
 pub fn check_tool(backend: &str) -> Result<()> {
-    if let Ok(tool) = tool_for(backend) {
-        for program in [tool.program, tool.replayer] {
-            if !on_path(program) {
-                bail!(
-                    "--bug-report on the {backend} backend captures with {}, and {program} is not on the PATH (Debian: apt-get install {})",
-                    tool.program,
-                    tool.package
-                );
-            }
-        }
+    let Ok(tool) = tool_for(backend) else {
+        return Ok(());
+    };
+    let missing = if !on_path(tool.program) {
+        Some(tool.program)
+    } else if tool == APITRACE && !on_path(APITRACE.replayer) {
+        Some(APITRACE.replayer)
+    } else if tool == RENDERDOC && renderdoc_python().is_none() {
+        Some(RENDERDOC.replayer)
+    } else {
+        None
+    };
+    if let Some(missing) = missing {
+        bail!(
+            "--bug-report on the {backend} backend captures with {}, and {missing} is missing here (Debian: apt-get install {})",
+            tool.program,
+            tool.packages
+        );
     }
     Ok(())
 }
@@ -116,11 +146,21 @@ pub fn rerun(
     }
     let stream = capture.join("record.stream");
     let tool = tool_for(backend);
-    let trace = capture.join("case.trace");
     let mut command = match tool {
         Ok(APITRACE) => {
             let mut command = Command::new(APITRACE.program);
-            command.args(["trace", "--api", "egl", "--output"]).arg(&trace).arg(program);
+            command.args(["trace", "--api", "egl", "--output"]).arg(capture.join(APITRACE.file)).arg(program);
+            command
+        }
+        Ok(RENDERDOC) => {
+            // The capture goes to `<template>_capture.rdc`; the runner starts and ends it.
+            let mut command = Command::new(RENDERDOC.program);
+            command
+                .args(["capture", "--capture-file"])
+                .arg(capture.join("renderdoc"))
+                .arg("--wait-for-exit")
+                .arg(program);
+            command.env(DEBUGGER_CAPTURE_ENV, "1");
             command
         }
         _ => Command::new(program),
@@ -166,13 +206,27 @@ pub fn rerun(
         Some(status) => Some(Death::Ended(status.to_string())),
     };
     let tail: Vec<&str> = stderr_text.lines().rev().take(20).collect();
-    Ok(CapturedRun {
-        record,
-        trace: (tool.is_ok() && trace.is_file()).then_some(trace),
-        tool,
-        stderr_tail: tail.into_iter().rev().collect::<Vec<_>>().join("\n"),
-        death,
-    })
+    let trace = match tool {
+        Ok(tool) => captured_file(&capture, tool)?,
+        Err(_) => None,
+    };
+    Ok(CapturedRun { record, trace, tool, stderr_tail: tail.into_iter().rev().collect::<Vec<_>>().join("\n"), death })
+}
+
+/// The capture a tool left in `capture`, as `tool.file`: apitrace writes it so; RenderDoc names
+/// its file after the template and the capture.
+fn captured_file(capture: &Path, tool: CaptureTool) -> Result<Option<PathBuf>> {
+    let path = capture.join(tool.file);
+    if tool == RENDERDOC {
+        let written = std::fs::read_dir(capture)
+            .with_context(|| format!("listing {}", capture.display()))?
+            .filter_map(|entry| entry.ok().map(|e| e.path()))
+            .find(|p| p.extension().is_some_and(|e| e == "rdc"));
+        if let Some(written) = written {
+            std::fs::rename(&written, &path).with_context(|| format!("renaming {}", written.display()))?;
+        }
+    }
+    Ok(path.is_file().then_some(path))
 }
 
 /// How the second run departs from the first: a death where the first died the same way (a
@@ -181,10 +235,10 @@ pub fn departures(first: &CaseRecord, second: &CapturedRun) -> Vec<String> {
     match (&second.record, &second.death) {
         (Some(record), _) => record_departures(first, record),
         (None, Some(death)) => {
-            let same = match (FailureKind::of(&first.reason), death) {
-                (FailureKind::Crash, Death::Ended(_)) | (FailureKind::Timeout, Death::TimedOut(_)) => true,
-                _ => false,
-            };
+            let same = matches!(
+                (FailureKind::of(&first.reason), death),
+                (FailureKind::Crash, Death::Ended(_)) | (FailureKind::Timeout, Death::TimedOut(_))
+            );
             if same {
                 Vec::new()
             } else {
@@ -277,12 +331,12 @@ mod tests {
     }
 
     #[test]
-    fn gl_runs_are_captured_with_apitrace_and_vulkan_runs_say_why_not() {
+    fn gl_runs_are_captured_with_apitrace_and_vulkan_runs_with_renderdoc() {
         assert_eq!(tool_for("gl"), Ok(APITRACE));
-        assert!(tool_for("vulkan").unwrap_err().contains("gfxreconstruct"));
+        assert_eq!(tool_for("vulkan"), Ok(RENDERDOC));
         assert!(tool_for("metal").is_err());
         assert!(on_path("sh") && !on_path("no-such-program-here"));
         // No tool needed where none captures.
-        assert!(check_tool("vulkan").is_ok());
+        assert!(check_tool("metal").is_ok());
     }
 }

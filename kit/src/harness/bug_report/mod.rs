@@ -20,7 +20,7 @@ use fragkit_report::report::{CaseRecord, Report, ReportedOutcome};
 use super::reproduce::Reproduction;
 use super::run::CaseRun;
 use super::supervise::CaseTimeout;
-use capture::APITRACE;
+use capture::{APITRACE, RENDERDOC};
 use gl_trace::TraceReading;
 
 /// What `--bug-report` asked for, and how to run one case run again.
@@ -101,17 +101,19 @@ impl BugReports<'_> {
         let arguments = (self.child_arguments)(run, &folder.join("evidence"));
         let captured = capture::rerun(&self.program, &arguments, &adapter.backend, &folder, self.timeout.of(run.case))?;
         let departures = capture::departures(record, &captured);
-        let reading = match &captured.trace {
-            Some(trace) => read_apitrace(trace)?,
-            None => TraceReading::default(),
+        let reading = match (&captured.tool, &captured.trace) {
+            (Ok(APITRACE), Some(trace)) => read_apitrace(trace)?,
+            _ => TraceReading::default(),
         };
         let shaders =
             shaders::write_shaders(&folder.join("shaders"), run.case.shaders, &adapter.backend, &reading.shaders)?;
         let readbacks = kit_readbacks(&folder.join("readbacks"))?;
-        let replay = match &captured.trace {
-            Some(_) => Some(write_gl_replay(&folder, &reading, &readbacks)?),
-            None => None,
+        let replay = match (&captured.tool, &captured.trace) {
+            (Ok(APITRACE), Some(_)) => Some(write_gl_replay(&folder, &reading, &readbacks)?),
+            (Ok(RENDERDOC), Some(_)) => Some(write_renderdoc_replay(&folder, &readbacks)?),
+            _ => None,
         };
+        let replayed = replay.as_ref().map(|replay| replay.run_and_compare(&folder));
         let known = self.expectations.find(run.case.name, adapter);
         let text = readme::Readme {
             record,
@@ -124,6 +126,7 @@ impl BugReports<'_> {
             shaders: &shaders,
             readbacks: &readbacks,
             replay: replay.as_ref(),
+            replayed: replayed.as_ref(),
         }
         .text();
         std::fs::write(folder.join("README.md"), text)
@@ -176,9 +179,58 @@ fn kit_readbacks(dir: &Path) -> Result<Vec<KitReadback>> {
     Ok(found)
 }
 
-/// What the replay script shows: per kit read-back, the trace's snapshot call, or why none.
+/// What the replay script shows: per kit read-back, where the capture shows it (a trace's
+/// snapshot call, a capture's copy) or why it does not.
 pub struct Replay {
     pub pairs: Vec<(KitReadback, Result<u64, String>)>,
+    /// Whether the replay writes images bottom row first (eglretrace), flipped against the
+    /// kit's.
+    pub bottom_up: bool,
+}
+
+/// The replay run once after writing: its verdict per read-back, or why it did not run.
+pub struct Replayed {
+    pub ran: Result<(), String>,
+    /// Per read-back with an image: equal to the kit's, or how it differs.
+    pub verdicts: Vec<(u32, Result<(), String>)>,
+}
+
+impl Replay {
+    /// Runs `folder/replay` and holds each replayed image to the kit's read-back.
+    pub fn run_and_compare(&self, folder: &Path) -> Replayed {
+        let ran = match Command::new(folder.join("replay")).output() {
+            Ok(output) if output.status.success() => Ok(()),
+            Ok(output) => {
+                Err(format!("replay failed ({}): {}", output.status, String::from_utf8_lossy(&output.stderr).trim()))
+            }
+            Err(e) => Err(format!("replay could not start: {e}")),
+        };
+        let mut verdicts = Vec::new();
+        for (kit, shown) in &self.pairs {
+            let (Some(image), Ok(_)) = (&kit.image, shown) else {
+                continue;
+            };
+            let replayed = folder.join("replayed").join(format!("readback-{:03}.png", kit.index));
+            let verdict = match (image::open(folder.join("readbacks").join(image)), image::open(&replayed)) {
+                (Ok(kit_image), Ok(replayed_image)) => {
+                    let replayed_image = replayed_image.to_rgba8();
+                    let replayed_image =
+                        if self.bottom_up { image::imageops::flip_vertical(&replayed_image) } else { replayed_image };
+                    let kit_image = kit_image.to_rgba8();
+                    if kit_image.dimensions() != replayed_image.dimensions() {
+                        Err(format!("{:?} against the kit's {:?}", replayed_image.dimensions(), kit_image.dimensions()))
+                    } else {
+                        let differing = kit_image.pixels().zip(replayed_image.pixels()).filter(|(a, b)| a != b).count();
+                        if differing == 0 { Ok(()) } else { Err(format!("{differing} pixels differ")) }
+                    }
+                }
+                (_, Err(e)) => Err(format!("no replayed image: {e}")),
+                (Err(e), _) => Err(format!("the kit's image: {e}")),
+            };
+            verdicts.push((kit.index, verdict));
+        }
+        Replayed { ran, verdicts }
+    }
 }
 
 /// Writes `replay`: eglretrace with no display snapshots the trace after each call that last
@@ -235,7 +287,83 @@ fn write_gl_replay(folder: &Path, reading: &TraceReading, readbacks: &[KitReadba
     std::fs::write(&path, script).with_context(|| format!("writing {}", path.display()))?;
     use std::os::unix::fs::PermissionsExt;
     std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).context("making replay executable")?;
-    Ok(Replay { pairs })
+    Ok(Replay { pairs, bottom_up: true })
+}
+
+/// The Python half of a RenderDoc replay: every image-to-buffer copy the capture holds (the
+/// case's read-backs, in order), its source image saved as PNG at that event.
+const RENDERDOC_REPLAY: &str = r#"# Replays capture/case.rdc with RenderDoc's Python module alone, headless, on this machine's
+# Vulkan driver, and saves the source image of each image-to-buffer copy (the case's read-backs,
+# in order) as replayed/readback-NNN.png.
+import os
+import sys
+
+import renderdoc as rd
+
+here = os.path.dirname(os.path.abspath(__file__))
+rd.InitialiseReplay(rd.GlobalEnvironment(), [])
+capture = rd.OpenCaptureFile()
+status = capture.OpenFile(os.path.join(here, "case.rdc"), "", None)
+if status != rd.ResultCode.Succeeded:
+    sys.exit(f"opening the capture: {status}")
+status, controller = capture.OpenCapture(rd.ReplayOptions(), None)
+if status != rd.ResultCode.Succeeded:
+    sys.exit(f"replaying the capture: {status}")
+
+
+def actions(children):
+    for action in children:
+        yield action
+        yield from actions(action.children)
+
+
+structured = controller.GetStructuredFile()
+index = 0
+for action in actions(controller.GetRootActions()):
+    if not (action.flags & rd.ActionFlags.Copy) or action.GetName(structured) != "vkCmdCopyImageToBuffer()":
+        continue
+    controller.SetFrameEvent(action.eventId, True)
+    save = rd.TextureSave()
+    save.resourceId = action.copySource
+    save.mip = action.copySourceSubresource.mip
+    save.slice.sliceIndex = action.copySourceSubresource.slice
+    save.destType = rd.FileType.PNG
+    path = os.path.join(here, "..", "replayed", f"readback-{index:03}.png")
+    result = controller.SaveTexture(save, path)
+    print(f"readback {index:03}: event {action.eventId}: {result}")
+    index += 1
+controller.Shutdown()
+capture.Shutdown()
+rd.ShutdownReplay()
+"#;
+
+/// The shell half: the Python with RenderDoc's module (Debian's is the system one).
+const RENDERDOC_REPLAY_SCRIPT: &str = r#"#!/bin/sh
+# Replays capture/case.rdc with RenderDoc's Python module alone (Debian: apt-get install
+# python3-renderdoc) on this machine's Vulkan driver, with no display, and writes each texture
+# the case read back, as the driver renders it now, into replayed/readback-NNN.png.
+set -e
+cd "$(dirname "$0")"
+rm -rf replayed
+mkdir -p replayed
+for python in /usr/bin/python3 python3; do
+    if "$python" -c 'import renderdoc' 2>/dev/null; then exec "$python" capture/replay.py; fi
+done
+echo "replay needs RenderDoc's Python module (Debian: apt-get install python3-renderdoc)" >&2
+exit 2
+"#;
+
+/// Writes `replay` and `capture/replay.py` for a RenderDoc capture: the image-to-buffer copies
+/// pair with the kit's read-backs in order.
+fn write_renderdoc_replay(folder: &Path, readbacks: &[KitReadback]) -> Result<Replay> {
+    std::fs::write(folder.join("capture/replay.py"), RENDERDOC_REPLAY).context("writing capture/replay.py")?;
+    let script = RENDERDOC_REPLAY_SCRIPT;
+    let path = folder.join("replay");
+    std::fs::write(&path, script).with_context(|| format!("writing {}", path.display()))?;
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).context("making replay executable")?;
+    let pairs = readbacks.iter().enumerate().map(|(i, kit)| (kit.clone(), Ok(i as u64))).collect();
+    Ok(Replay { pairs, bottom_up: false })
 }
 
 #[cfg(test)]

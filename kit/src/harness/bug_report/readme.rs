@@ -10,7 +10,7 @@ use fragkit_report::report::CaseRecord;
 
 use super::capture::CapturedRun;
 use super::shaders::WrittenShader;
-use super::{KitReadback, Replay};
+use super::{KitReadback, Replay, Replayed};
 use crate::harness::Case;
 use crate::harness::reproduce::is_driver_variable;
 
@@ -26,6 +26,7 @@ pub struct Readme<'a> {
     pub shaders: &'a [WrittenShader],
     pub readbacks: &'a [KitReadback],
     pub replay: Option<&'a Replay>,
+    pub replayed: Option<&'a Replayed>,
 }
 
 /// The reason without the kit's own suffixes (the reproduce line, the known issue's text).
@@ -92,29 +93,58 @@ impl Readme<'_> {
         match (&captured.tool, &captured.trace) {
             (Ok(tool), Some(trace)) => {
                 let size = std::fs::metadata(trace).map(|m| m.len()).unwrap_or(0);
+                let file = trace.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
+                let how = if tool.program == "apitrace" {
+                    "holds every EGL and GL call of the case's own process, recorded by `apitrace trace --api egl`"
+                } else {
+                    "holds the case's GPU work, captured by RenderDoc's in-application API around the case (the \
+                     process started by `renderdoccmd capture`)"
+                };
                 let _ = writeln!(
                     t,
-                    "`capture/case.trace` ({size} bytes) holds every EGL and GL call of the case's own process, recorded \
-                     by `{} trace --api egl`. `./replay` replays it with `{}` alone (Debian: `apt-get install {}`), headless, \
-                     and writes each texture the case read back into `replayed/readback-NNN.png`, as this machine's \
-                     driver renders it; `readbacks/` holds what the kit read (`.png` for 8-bit RGBA, `.bin` raw rows, \
-                     `.json` their format). eglretrace writes an image bottom row first: flip it to compare.\n",
-                    tool.program, tool.replayer, tool.package
+                    "`capture/{file}` ({size} bytes) {how}. `./replay` replays it with {} alone (Debian: `apt-get \
+                     install {}`), headless, and writes each texture the case read back into \
+                     `replayed/readback-NNN.png`, as this machine's driver renders it; `readbacks/` holds what the kit \
+                     read (`.png` for 8-bit RGBA, `.bin` raw rows, `.json` their format).{}\n",
+                    tool.replayer,
+                    tool.packages,
+                    if self.replay.is_some_and(|r| r.bottom_up) {
+                        " eglretrace writes an image bottom row first: flip it to compare."
+                    } else {
+                        ""
+                    }
                 );
                 if let Some(replay) = self.replay {
-                    t.push_str("| read-back | format | size | replayed after call |\n|---|---|---|---|\n");
-                    for (kit, snapshot) in &replay.pairs {
-                        let shown = match snapshot {
-                            Ok(call) => format!("{call}"),
-                            Err(why) => format!("not shown: {why}"),
+                    t.push_str("| read-back | format | size | shown by | replayed here |\n|---|---|---|---|---|\n");
+                    for (kit, shown) in &replay.pairs {
+                        let (shown, verdict) = match shown {
+                            Ok(at) => {
+                                let verdict = self
+                                    .replayed
+                                    .and_then(|r| r.verdicts.iter().find(|(index, _)| *index == kit.index))
+                                    .map_or("not compared (no 8-bit RGBA image)".to_owned(), |(_, v)| match v {
+                                        Ok(()) => "equal to the kit's, pixel for pixel".to_owned(),
+                                        Err(why) => format!("**differs**: {why}"),
+                                    });
+                                let by = if replay.bottom_up {
+                                    format!("snapshot after call {at}")
+                                } else {
+                                    format!("image-to-buffer copy {at}")
+                                };
+                                (by, verdict)
+                            }
+                            Err(why) => (format!("not shown: {why}"), "-".to_owned()),
                         };
                         let _ = writeln!(
                             t,
-                            "| {:03} | {} | {}x{} | {shown} |",
+                            "| {:03} | {} | {}x{} | {shown} | {verdict} |",
                             kit.index, kit.format, kit.width, kit.height
                         );
                     }
                     t.push('\n');
+                }
+                if let Some(Replayed { ran: Err(why), .. }) = self.replayed {
+                    let _ = writeln!(t, "Run once here after writing this folder, the replay failed: {why}\n");
                 }
             }
             (Err(why), _) => {
