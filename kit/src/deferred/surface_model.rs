@@ -85,8 +85,9 @@ impl<'a> SurfaceModel<'a> {
                 let (cx, cy) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
                 let centre = self.cast(cx, cy);
                 let face = |hit: &Option<Hit>| hit.as_ref().map(|h| h.triangle / 2);
-                let corners = [(-band, -band), (band, -band), (-band, band), (band, band)];
-                let edge_near = corners.iter().any(|(dx, dy)| face(&self.cast(cx + dx, cy + dy)) != face(&centre));
+                let corners =
+                    [(cx - band, cy - band), (cx + band, cy - band), (cx - band, cy + band), (cx + band, cy + band)];
+                let edge_near = corners.iter().any(|&(x, y)| face(&self.cast(x, y)) != face(&centre));
                 pixels.push(match centre {
                     _ if edge_near => ExpectedPixel::Ambiguous,
                     Some(Hit { tied: true, .. }) => ExpectedPixel::Ambiguous,
@@ -305,5 +306,70 @@ mod tests {
             checked += 1;
         }
         assert!(checked > 400, "{checked}");
+    }
+
+    /// A quad facing the camera (two triangles, counter-clockwise seen from it) over x0..x1,
+    /// y0..y1 at depth z.
+    fn quad(x: (f32, f32), y: (f32, f32), z: f32) -> Vec<SceneVertex> {
+        let corner = |x: f32, y: f32| SceneVertex {
+            position: [x, y, z],
+            normal: [0.0, 0.0, 1.0],
+            albedo: [0.5; 4],
+            shininess: 8.0,
+        };
+        let [a, b, c, d] = [corner(x.0, y.0), corner(x.1, y.0), corner(x.1, y.1), corner(x.0, y.1)];
+        vec![a, b, c, a, c, d]
+    }
+
+    /// Where the corridors hardly go: a face's own diagonal through pixel centres (its two
+    /// triangles are one face, not a tie), two faces at depths a Depth32Float test cannot order
+    /// (ambiguous), a nearer face over a farther one (the nearer wins) — the model against the
+    /// definition read plainly, with and without a band.
+    #[test]
+    fn diagonals_ties_and_overlaps_follow_the_definition() {
+        use crate::scene::corridor::Camera;
+        let camera = Camera { eye: DVec3::ZERO.as_vec3(), target: glam::Vec3::NEG_Z, fov_y: 1.0, near: 0.1, far: 60.0 };
+        // At 5 m the half-height of the view is 5 tan(1/2) ≈ 2.73 m.
+        let mut vertices = quad((-2.0, 2.0), (-2.0, 2.0), -5.0);
+        // A face 1e-7 m behind the first over its right half: NDC depths 4e-9 apart.
+        vertices.extend(quad((0.5, 2.5), (-2.5, 0.5), -5.0000001));
+        // A nearer face over the lower left.
+        vertices.extend(quad((-2.5, -0.5), (-2.5, -0.5), -3.0));
+        let scene = Scene { vertices, lights: Vec::new(), camera };
+        let size = (16, 16);
+        let model = SurfaceModel::new(&scene, size);
+        let reference = Reference { scene: &scene, size };
+        let mut kinds = [0; 3];
+        for band in [0.0, 0.25] {
+            let (got, want) = (model.expected(band), reference.expected(band));
+            for (index, (got, want)) in got.iter().zip(&want).enumerate() {
+                let at = (index as u32 % size.0, index as u32 / size.0);
+                match (got, want) {
+                    (
+                        ExpectedPixel::Surface { triangle, position },
+                        ExpectedPixel::Surface { triangle: t, position: p },
+                    ) => {
+                        assert_eq!(triangle / 2, t / 2, "band {band} pixel {at:?}: another face");
+                        assert!((*position - *p).length() <= 1e-5, "band {band} pixel {at:?}: {position} vs {p}");
+                        kinds[0] += 1;
+                    }
+                    _ => {
+                        assert_eq!(got, want, "band {band} pixel {at:?}");
+                        kinds[usize::from(*got == ExpectedPixel::Background) + 1] += 1;
+                    }
+                }
+            }
+        }
+        // The first face's diagonal (bottom left to top right) runs through the centres of
+        // pixels (i, 15 − i): with no band they are that face's, not a tie of its triangles.
+        let exact = model.expected(0.0);
+        for i in 6..=9 {
+            let pixel = exact[((15 - i) * 16 + i) as usize];
+            assert!(matches!(pixel, ExpectedPixel::Surface { triangle: 0 | 1, .. }), "({i}, {}): {pixel:?}", 15 - i);
+        }
+        // Where the face behind it by 1e-7 m overlaps, ambiguous; where the nearer one does, it.
+        assert_eq!(exact[10 * 16 + 12], ExpectedPixel::Ambiguous);
+        assert!(matches!(exact[13 * 16 + 3], ExpectedPixel::Surface { triangle: 4 | 5, .. }));
+        assert!(kinds.iter().all(|&k| k > 0), "surface, ambiguous, background: {kinds:?}");
     }
 }
