@@ -47,49 +47,67 @@ fn rgba(path: &Path) -> image::RgbaImage {
     image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())).to_rgba8()
 }
 
-/// wgpu-hal's GL resolve under a scissor (a known issue of `kit.scissor.msaa` on llvmpipe GL):
-/// its folder's `replay`, run from the folder in a shell with nothing but /usr/bin and /bin on
-/// the PATH, writes every texture the case read back, and each equals the kit's read-back pixel
-/// for pixel (eglretrace writes GL's bottom row first: flipped).
+/// Two wgpu-hal GL issues on llvmpipe GL, the ignored sample mask (`kit.msaa.sample_mask`) and
+/// the resolve under a scissor (`kit.scissor.msaa`): each folder's `replay`, run from the folder
+/// in a shell with nothing but /usr/bin and /bin on the PATH, writes every texture the case read
+/// back, and each equals the kit's read-back pixel for pixel (eglretrace writes GL's bottom row
+/// first: flipped).
 #[test]
-fn a_gl_known_issue_replays_its_failing_pixels_without_fragkit() {
+fn gl_known_issues_replay_their_failing_pixels_without_fragkit() {
     if !have_apitrace() {
         return;
     }
     let dir = scratch("gl");
     let (code, text) = fragkit(
-        &["--backend", "gl", "check", "kit.scissor.msaa", "--bug-report", dir.to_str().unwrap(), "--bug-report-known"],
+        &[
+            "--backend",
+            "gl",
+            "check",
+            "kit.msaa.sample_mask",
+            "kit.scissor.msaa",
+            "--bug-report",
+            dir.to_str().unwrap(),
+            "--bug-report-known",
+        ],
         None,
     );
     assert_eq!(code, 0, "{text}");
-    let folder = only_folder(&dir);
-    let readme = std::fs::read_to_string(folder.join("README.md")).unwrap();
-    for expected in [
-        "# kit.scissor.msaa",
-        "known_issue on llvmpipe",
-        "## What the case checks",
-        "## Driver",
-        "wgpu-hal",
-        "fragkit check kit.scissor.msaa --backend gl",
-        "The captured run's outcome and metrics (timings left out) equal the first run's.",
-        "shaders/glsl/",
-        "equal to the kit's, pixel for pixel",
-    ] {
-        assert!(readme.contains(expected), "README lacks {expected:?}:\n{readme}");
-    }
-    replay_bare(&folder);
-    let mut compared = 0;
-    for entry in std::fs::read_dir(folder.join("readbacks")).unwrap() {
-        let kit = entry.unwrap().path();
-        if kit.extension().is_none_or(|e| e != "png") {
-            continue;
+    let mask = dir.join("kit.msaa.sample_mask");
+    let scissor = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.file_name().unwrap().to_string_lossy().starts_with("kit.scissor.msaa"))
+        .expect("kit.scissor.msaa's folder");
+    for (folder, case, images) in [(mask, "kit.msaa.sample_mask", 12), (scissor, "kit.scissor.msaa", 3)] {
+        let readme = std::fs::read_to_string(folder.join("README.md")).unwrap();
+        for expected in [
+            &format!("# {case}"),
+            "known_issue on llvmpipe",
+            "## What the case checks",
+            "## Driver",
+            "wgpu-hal",
+            &format!("fragkit check {case} --backend gl"),
+            "The captured run's outcome and metrics (timings left out) equal the first run's.",
+            "shaders/glsl/",
+            "equal to the kit's, pixel for pixel",
+        ] {
+            assert!(readme.contains(expected), "{case}: README lacks {expected:?}:\n{readme}");
         }
-        let replayed = rgba(&folder.join("replayed").join(kit.file_name().unwrap()));
-        let flipped = image::imageops::flip_vertical(&replayed);
-        assert_eq!(flipped, rgba(&kit), "{} differs from its replay", kit.display());
-        compared += 1;
+        assert!(folder.join("capture/case.trace").is_file() && folder.join("shaders/glsl").is_dir());
+        replay_bare(&folder);
+        let mut compared = 0;
+        for entry in std::fs::read_dir(folder.join("readbacks")).unwrap() {
+            let kit = entry.unwrap().path();
+            if kit.extension().is_none_or(|e| e != "png") {
+                continue;
+            }
+            let replayed = rgba(&folder.join("replayed").join(kit.file_name().unwrap()));
+            let flipped = image::imageops::flip_vertical(&replayed);
+            assert_eq!(flipped, rgba(&kit), "{} differs from its replay", kit.display());
+            compared += 1;
+        }
+        assert_eq!(compared, images, "{case}: the RGBA8 textures it reads back");
     }
-    assert_eq!(compared, 3, "the case reads back three RGBA8 textures");
     std::fs::remove_dir_all(&dir).ok();
 }
 
