@@ -109,7 +109,9 @@ impl BugReports<'_> {
             shaders::write_shaders(&folder.join("shaders"), run.case.shaders, &adapter.backend, &reading.shaders)?;
         let readbacks = kit_readbacks(&folder.join("readbacks"))?;
         let replay = match (&captured.tool, &captured.trace) {
-            (Ok(APITRACE), Some(_)) => Some(write_gl_replay(&folder, &reading, &readbacks)?),
+            (Ok(APITRACE), Some(_)) => {
+                Some(write_gl_replay(&folder, &reading, &readbacks, adapter.driver_info.starts_with("OpenGL ES"))?)
+            }
             (Ok(RENDERDOC), Some(_)) => Some(write_renderdoc_replay(&folder, &readbacks)?),
             _ => None,
         };
@@ -188,6 +190,48 @@ pub struct Replay {
     pub bottom_up: bool,
 }
 
+/// How long the replay may take when the kit runs it once (eglretrace has been seen to hang on
+/// a context it cannot make).
+const REPLAY_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(120);
+
+/// Runs `command` (its output discarded but for stderr's end), killed past `timeout`.
+fn run_with_timeout(mut command: Command, timeout: std::time::Duration) -> Result<(), String> {
+    let mut child = command
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("replay could not start: {e}"))?;
+    let mut stderr = child.stderr.take();
+    let reader = std::thread::spawn(move || {
+        let mut text = String::new();
+        if let Some(stderr) = stderr.as_mut() {
+            std::io::Read::read_to_string(stderr, &mut text).ok();
+        }
+        text
+    });
+    let started = std::time::Instant::now();
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Some(status),
+            Ok(None) if started.elapsed() > timeout => {
+                child.kill().ok();
+                child.wait().ok();
+                break None;
+            }
+            Ok(None) => std::thread::sleep(std::time::Duration::from_millis(50)),
+            Err(e) => return Err(format!("waiting for the replay: {e}")),
+        }
+    };
+    let stderr = reader.join().unwrap_or_default();
+    let tail: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).rev().take(3).collect();
+    let tail = tail.into_iter().rev().collect::<Vec<_>>().join(" / ");
+    match status {
+        Some(status) if status.success() => Ok(()),
+        Some(status) => Err(format!("replay failed ({status}): {tail}")),
+        None => Err(format!("replay was killed after {} s: {tail}", timeout.as_secs())),
+    }
+}
+
 /// The replay run once after writing: its verdict per read-back, or why it did not run.
 pub struct Replayed {
     pub ran: Result<(), String>,
@@ -198,13 +242,7 @@ pub struct Replayed {
 impl Replay {
     /// Runs `folder/replay` and holds each replayed image to the kit's read-back.
     pub fn run_and_compare(&self, folder: &Path) -> Replayed {
-        let ran = match Command::new(folder.join("replay")).output() {
-            Ok(output) if output.status.success() => Ok(()),
-            Ok(output) => {
-                Err(format!("replay failed ({}): {}", output.status, String::from_utf8_lossy(&output.stderr).trim()))
-            }
-            Err(e) => Err(format!("replay could not start: {e}")),
-        };
+        let ran = run_with_timeout(Command::new(folder.join("replay")), REPLAY_TIMEOUT);
         let mut verdicts = Vec::new();
         for (kit, shown) in &self.pairs {
             let (Some(image), Ok(_)) = (&kit.image, shown) else {
@@ -237,7 +275,7 @@ impl Replay {
 /// drew a texture the case read back, and the script names each image after the read-back it
 /// shows (`replayed/readback-NNN.png`). The texture reads pair with the trace's `glReadPixels`
 /// in order, where their sizes agree.
-fn write_gl_replay(folder: &Path, reading: &TraceReading, readbacks: &[KitReadback]) -> Result<Replay> {
+fn write_gl_replay(folder: &Path, reading: &TraceReading, readbacks: &[KitReadback], gles: bool) -> Result<Replay> {
     let pairs: Vec<(KitReadback, Result<u64, String>)> = readbacks
         .iter()
         .enumerate()
@@ -268,6 +306,17 @@ fn write_gl_replay(folder: &Path, reading: &TraceReading, readbacks: &[KitReadba
          rm -rf replayed snapshots\n\
          mkdir -p replayed snapshots\n",
     );
+    if gles {
+        // Measured with apitrace 11.1 on Mesa 22.3: under the version overrides that make
+        // llvmpipe a GLES adapter for wgpu, eglretrace cannot make the traced GLES context
+        // ("waffle_context_create failed" with MESA_GL_VERSION_OVERRIDE=3.2; a hang with
+        // MESA_GLES_VERSION_OVERRIDE alone); without them the driver's own GLES replays it.
+        script.push_str(
+            "# A GLES trace: replayed on the driver's own GLES (eglretrace cannot make the context under\n\
+             # Mesa's version overrides).\n\
+             unset MESA_GL_VERSION_OVERRIDE MESA_GLES_VERSION_OVERRIDE\n",
+        );
+    }
     if calls.is_empty() {
         script.push_str("echo 'no read-back of this case can be shown from the trace (see README.md)' >&2\nexit 1\n");
     } else {

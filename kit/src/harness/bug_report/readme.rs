@@ -79,6 +79,12 @@ impl Readme<'_> {
         }
         for issue in self.known {
             let _ = writeln!(t, "Listed in the kit's expectations (cases/expectations.toml):\n\n> {}\n", issue.reason);
+            for (what, note) in [("It shows only on some runs", &issue.intermittent), ("It may pass", &issue.may_pass)]
+            {
+                if let Some(note) = note {
+                    let _ = writeln!(t, "{what}: {note}\n");
+                }
+            }
         }
         let _ = writeln!(t, "## Reproduce with fragkit\n\n```sh\n{}\n```\n", self.reproduce);
         self.replay_section(&mut t);
@@ -145,6 +151,16 @@ impl Readme<'_> {
                 }
                 if let Some(Replayed { ran: Err(why), .. }) = self.replayed {
                     let _ = writeln!(t, "Run once here after writing this folder, the replay failed: {why}\n");
+                }
+                let differs = self.replayed.is_some_and(|r| r.verdicts.iter().any(|(_, v)| v.is_err()));
+                if differs && self.replay.is_some_and(|r| r.bottom_up) {
+                    t.push_str(
+                        "Where a replayed image differs, the replay is not the run, and the kit does not yet know which \
+                         part: the snapshot reads the texture straight from its framebuffer where the case read it through \
+                         `glReadPixels` into a pixel-pack buffer (wgpu-hal's copy to a buffer); a GLES trace replays on \
+                         the driver's own GLES rather than the run's overridden version (see `replay`); some drivers \
+                         answer differently from run to run. The read-backs in `readbacks/` are what the case judged.\n\n",
+                    );
                 }
             }
             (Err(why), _) => {
