@@ -95,7 +95,8 @@ fn nearest_texels(coordinate: Interval, size: u32) -> Vec<u32> {
     let texel = coordinate.mul(Interval::exact(f64::from(size)));
     let step = 2f64.powi(-SUB_TEXEL_BITS);
     let (first, last) = ((texel.lo - step).floor() as i64, (texel.hi + step).floor() as i64);
-    if last - first + 1 >= i64::from(size) {
+    // A span of the whole axis or more holds every texel.
+    if (first..=last).count() >= size as usize {
         return (0..size).collect();
     }
     let mut texels: Vec<u32> = (first..=last).map(|t| t.rem_euclid(i64::from(size)) as u32).collect();
