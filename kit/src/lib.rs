@@ -18,6 +18,7 @@ pub mod graphics_debugger;
 pub mod harness;
 pub mod image_compare;
 pub mod mapping;
+pub mod memory_growth;
 pub mod oit;
 pub mod probe;
 pub mod query;

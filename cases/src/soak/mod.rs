@@ -1,8 +1,10 @@
 //! `soak.*`: long runs, only when named (`fragkit check 'soak.*'`). Each technique renders
-//! `frames` frames, recreating every resource on a resize every `resize_every` frames (cycling
-//! through three sizes). After warm-up (the first cycle, so every size has been allocated once)
-//! the process's resident memory may grow by less than 5 %; and the last frame must equal, bit for
-//! bit, a fresh render of it — new objects replaying the frames since the last resize.
+//! `frames` frames in `cycles` cycles, recreating every resource at each cycle's start, as a
+//! resize does (cycling through three sizes). At each cycle's end, once the GPU is idle, the
+//! process's resident memory and wgpu's live objects and memory (its internal counters) are
+//! sampled; memory that keeps growing with the cycles after warm-up is a leak, reported in bytes
+//! per frame, and one that stops (a cache) is not (`fragkit::memory_growth`). And the last frame
+//! must equal, bit for bit, a fresh render of it: new objects replaying the last cycle's frames.
 
 fragkit::cases! {
     cps: CASE;
@@ -13,22 +15,23 @@ fragkit::cases! {
 use anyhow::{Context, Result, bail};
 use fragkit::gpu::Gpu;
 use fragkit::harness::{Ctx, Outcome, ParamKind, ParamSpec, Verdict};
+use fragkit::memory_growth::{MIN_JUDGED, growth, judged_cycles};
+
+mod memory;
+use memory::Quantity;
 
 pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec { name: "frames", kind: ParamKind::CountIn(4, 1_000_000), default: "1000", help: "frames rendered" },
+    ParamSpec { name: "frames", kind: ParamKind::CountIn(64, 1_000_000), default: "1000", help: "frames rendered" },
     ParamSpec {
-        name: "resize_every",
-        kind: ParamKind::CountIn(2, 1_000_000),
-        default: "100",
-        help: "frames between resizes (every resource recreated)",
+        name: "cycles",
+        kind: ParamKind::CountIn(2 * MIN_JUDGED as u64, 32),
+        default: "20",
+        help: "resize cycles (every resource recreated at each start); the second half is judged for growth",
     },
 ];
 
-/// The sizes a soak cycles through, one per segment.
+/// The sizes a soak cycles through, one per cycle.
 const SIZES: [(u32, u32); 3] = [(64, 48), (48, 64), (80, 40)];
-
-/// Resident memory may grow by less than this after warm-up.
-const MAX_GROWTH: f64 = 0.05;
 
 /// A technique under soak: made for one size, renders frame after frame, shows its output.
 pub trait Soaked: Sized {
@@ -38,76 +41,90 @@ pub trait Soaked: Sized {
     fn output(&self, gpu: &Gpu) -> Result<Vec<u8>>;
 }
 
-/// The process's resident set size in bytes (Linux: /proc/self/status).
-fn resident_bytes() -> Result<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").context("reading /proc/self/status")?;
-    let line = status.lines().find(|l| l.starts_with("VmRSS:")).context("no VmRSS line in /proc/self/status")?;
-    let kib: u64 = line.split_whitespace().nth(1).context("VmRSS without a value")?.parse().context("VmRSS value")?;
-    Ok(kib * 1024)
+/// The first frame of cycle `cycle` of `cycles` over `frames` frames (even shares).
+fn cycle_start(cycle: u32, cycles: u32, frames: u32) -> u32 {
+    (u64::from(cycle) * u64::from(frames) / u64::from(cycles)) as u32
 }
 
 /// Runs the soak for technique `T`.
 pub fn soak<T: Soaked>(ctx: &mut Ctx) -> Result<Outcome> {
-    if resident_bytes().is_err() {
+    if memory::resident_bytes().is_err() {
         return Ok(Outcome::NotSupported("resident memory: /proc/self/status has no VmRSS here".into()));
     }
     let frames = ctx.params.count_u32("frames")?;
-    let every = ctx.params.count_u32("resize_every")?;
-    let warm_up = (every * SIZES.len() as u32).min(frames - 1);
-    let (mut technique, mut segment_start) = (T::new(ctx.gpu, SIZES[0])?, 0);
-    let mut resident_after_warm_up = 0;
-    let mut resident_peak = 0;
-    for frame in 0..frames {
-        if frame > 0 && frame % every == 0 {
-            // Drop the old resources before making the new ones, as a resizing app would.
-            drop(technique);
-            technique = T::new(ctx.gpu, SIZES[((frame / every) as usize) % SIZES.len()])?;
-            segment_start = frame;
+    let cycles = ctx.params.count_u32("cycles")?;
+    let mut samples: Vec<Vec<Quantity>> = Vec::new();
+    let mut last = Vec::new();
+    for cycle in 0..cycles {
+        // A new technique per cycle, the old one dropped first, as a resizing app would.
+        let mut technique = T::new(ctx.gpu, SIZES[cycle as usize % SIZES.len()])?;
+        for frame in cycle_start(cycle, cycles, frames)..cycle_start(cycle + 1, cycles, frames) {
+            technique.render(ctx.gpu, frame).with_context(|| format!("frame {frame}"))?;
         }
-        technique.render(ctx.gpu, frame).with_context(|| format!("frame {frame}"))?;
-        if frame == warm_up {
-            ctx.gpu.wait()?;
-            resident_after_warm_up = resident_bytes()?;
-        }
-        if frame > warm_up && frame % 10 == 0 {
-            resident_peak = resident_peak.max(resident_bytes()?);
+        ctx.gpu.wait()?;
+        samples.push(memory::sample(ctx.gpu)?);
+        if cycle + 1 == cycles {
+            last = technique.output(ctx.gpu)?;
         }
     }
-    ctx.gpu.wait()?;
-    let resident_end = resident_bytes()?;
-    resident_peak = resident_peak.max(resident_end);
-    let last = technique.output(ctx.gpu)?;
-    drop(technique);
+    if last.is_empty() {
+        bail!("the soak read back an empty output");
+    }
 
-    let size = SIZES[(((frames - 1) / every) as usize) % SIZES.len()];
-    let mut fresh = T::new(ctx.gpu, size)?;
-    for frame in segment_start..frames {
+    let mut fresh = T::new(ctx.gpu, SIZES[(cycles - 1) as usize % SIZES.len()])?;
+    for frame in cycle_start(cycles - 1, cycles, frames)..frames {
         fresh.render(ctx.gpu, frame)?;
     }
     let differing = last.iter().zip(fresh.output(ctx.gpu)?).filter(|(a, b)| **a != *b).count();
 
-    let growth = resident_peak as f64 / resident_after_warm_up as f64 - 1.0;
+    let frames_per_cycle = f64::from(frames) / f64::from(cycles);
     ctx.metric("frames", frames);
-    ctx.metric("resizes", (frames - 1) / every);
-    ctx.metric("resident_mib_after_warm_up", resident_after_warm_up as f64 / 1048576.0);
-    ctx.metric("resident_mib_peak_after_warm_up", resident_peak as f64 / 1048576.0);
-    ctx.metric("resident_growth", growth);
-    ctx.metric("last_frame_bytes_differing_from_fresh", differing);
+    ctx.metric("cycles", cycles);
+    ctx.metric("judged_cycles", judged_cycles(cycles as usize).len());
     let mut verdict = Verdict::new();
-    if growth >= MAX_GROWTH {
-        verdict.fail(format!(
-            "resident memory grew {:.1} % after warm-up ({:.1} → {:.1} MiB peak), at most {:.0} % allowed",
-            100.0 * growth,
-            resident_after_warm_up as f64 / 1048576.0,
-            resident_peak as f64 / 1048576.0,
-            100.0 * MAX_GROWTH
-        ));
+    let series_of = |index: usize| -> Vec<u64> { samples.iter().map(|s| s[index].value).collect() };
+    // Where growing process memory lives: in malloc's live blocks, or outside them.
+    let heap_live = samples[0].iter().position(|q| q.name == "heap_live").map(&series_of);
+    let heap_note = match heap_live.as_deref().and_then(growth) {
+        Some(heap) => format!(" (the live heap: {:.1} bytes a frame)", heap.per_cycle / frames_per_cycle),
+        None => String::new(),
+    };
+    for (index, quantity) in samples[0].iter().enumerate() {
+        let series = series_of(index);
+        let growth = growth(&series).context("too few cycles to judge growth")?;
+        let unit = if quantity.bytes { " bytes" } else { "" };
+        if quantity.bytes {
+            ctx.metric(
+                &format!("{}_mib_per_cycle", quantity.name),
+                series.iter().map(|&b| b as f64 / 1048576.0).collect::<Vec<_>>(),
+            );
+        } else {
+            ctx.metric(&format!("{}_per_cycle", quantity.name), &series);
+        }
+        if growth.per_cycle != 0.0 {
+            ctx.metric(&format!("{}_growth_per_frame", quantity.name), growth.per_cycle / frames_per_cycle);
+            ctx.metric(&format!("{}_noise_per_cycle", quantity.name), growth.noise);
+            ctx.metric(&format!("{}_growth_p", quantity.name), growth.p);
+        }
+        if quantity.leak_step.is_some_and(|step| growth.is_leak(step)) {
+            let judged = &series[judged_cycles(series.len())];
+            verdict.fail(format!(
+                "{}{} keeps growing: {:.1}{unit} a frame ({:.1} a resize cycle of {frames_per_cycle:.0} frames), {} → {} over the last {} cycles; identical cycles vary by {:.1}; p = {:.1e}",
+                quantity.name,
+                if quantity.name.starts_with("resident") { &heap_note } else { "" },
+                growth.per_cycle / frames_per_cycle,
+                growth.per_cycle,
+                judged[0],
+                judged[judged.len() - 1],
+                growth.judged,
+                growth.noise,
+                growth.p
+            ));
+        }
     }
+    ctx.metric("last_frame_bytes_differing_from_fresh", differing);
     if differing > 0 {
         verdict.fail(format!("the last frame differs from a fresh render of it in {differing} bytes"));
-    }
-    if last.is_empty() {
-        bail!("the soak read back an empty output");
     }
     Ok(verdict.outcome())
 }
