@@ -1,10 +1,13 @@
 //! `soak.*`: long runs, only when named (`fragkit check 'soak.*'`). Each technique renders
 //! `frames` frames in `cycles` cycles, recreating every resource at each cycle's start, as a
 //! resize does (cycling through three sizes). At each cycle's end, once the GPU is idle, the
-//! process's resident memory and wgpu's live objects and memory (its internal counters) are
-//! sampled; memory that keeps growing with the cycles after warm-up is a leak, reported in bytes
-//! per frame, and one that stops (a cache) is not (`fragkit::memory_growth`). And the last frame
-//! must equal, bit for bit, a fresh render of it: new objects replaying the last cycle's frames.
+//! process's memory and wgpu's live objects and memory are sampled (`memory.rs`); memory that
+//! keeps growing through the second half of the cycles is a leak, reported in bytes a frame, and
+//! one that stops (a cache) is not (`fragkit::memory_growth`). Growth is checked by running on:
+//! the run doubles, up to four times its length, until the growth stops — a cache that fills
+//! slowly (SwiftShader's, over about 1500 frames of OIT) then passes at any requested length, and
+//! a leak fails with its rate. And the last frame must equal, bit for bit, a fresh render of it:
+//! new objects replaying the last cycle's frames.
 
 fragkit::cases! {
     cps: CASE;
@@ -41,9 +44,24 @@ pub trait Soaked: Sized {
     fn output(&self, gpu: &Gpu) -> Result<Vec<u8>>;
 }
 
-/// The first frame of cycle `cycle` of `cycles` over `frames` frames (even shares).
+/// The first frame of cycle `cycle` when `cycles` cycles share `frames` frames evenly (a cycle
+/// past `cycles` goes on at the same pace: an extended run).
 fn cycle_start(cycle: u32, cycles: u32, frames: u32) -> u32 {
     (u64::from(cycle) * u64::from(frames) / u64::from(cycles)) as u32
+}
+
+/// How many times its requested length a soak may run on: growth in the judged half of a run is
+/// checked by running on, doubling the cycles, until it stops (a cache, however slowly it fills,
+/// within twice the requested length) or the run is this many times as long (a leak).
+const MAX_EXTENSION: u32 = 4;
+
+/// Growth that may be a leak in any judged quantity of `samples` (a run's per-cycle samples).
+fn growing(samples: &[Vec<Quantity>]) -> bool {
+    (0..samples[0].len()).any(|index| {
+        let series: Vec<u64> = samples.iter().map(|s| s[index].value).collect();
+        let leak_step = samples[0][index].leak_step;
+        growth(&series).is_some_and(|g| leak_step.is_some_and(|step| g.is_leak(step)))
+    })
 }
 
 /// Runs the soak for technique `T`.
@@ -55,7 +73,9 @@ pub fn soak<T: Soaked>(ctx: &mut Ctx) -> Result<Outcome> {
     let cycles = ctx.params.count_u32("cycles")?;
     let mut samples: Vec<Vec<Quantity>> = Vec::new();
     let mut last = Vec::new();
-    for cycle in 0..cycles {
+    let mut planned = cycles;
+    let mut cycle = 0;
+    while cycle < planned {
         // A new technique per cycle, the old one dropped first, as a resizing app would.
         let mut technique = T::new(ctx.gpu, SIZES[cycle as usize % SIZES.len()])?;
         for frame in cycle_start(cycle, cycles, frames)..cycle_start(cycle + 1, cycles, frames) {
@@ -63,24 +83,29 @@ pub fn soak<T: Soaked>(ctx: &mut Ctx) -> Result<Outcome> {
         }
         ctx.gpu.wait()?;
         samples.push(memory::sample(ctx.gpu)?);
-        if cycle + 1 == cycles {
+        cycle += 1;
+        if cycle == planned && planned < MAX_EXTENSION * cycles && growing(&samples) {
+            planned *= 2;
+        }
+        if cycle == planned {
             last = technique.output(ctx.gpu)?;
         }
     }
     if last.is_empty() {
         bail!("the soak read back an empty output");
     }
+    let run_frames = cycle_start(planned, cycles, frames);
 
-    let mut fresh = T::new(ctx.gpu, SIZES[(cycles - 1) as usize % SIZES.len()])?;
-    for frame in cycle_start(cycles - 1, cycles, frames)..frames {
+    let mut fresh = T::new(ctx.gpu, SIZES[(planned - 1) as usize % SIZES.len()])?;
+    for frame in cycle_start(planned - 1, cycles, frames)..run_frames {
         fresh.render(ctx.gpu, frame)?;
     }
     let differing = last.iter().zip(fresh.output(ctx.gpu)?).filter(|(a, b)| **a != *b).count();
 
     let frames_per_cycle = f64::from(frames) / f64::from(cycles);
-    ctx.metric("frames", frames);
-    ctx.metric("cycles", cycles);
-    ctx.metric("judged_cycles", judged_cycles(cycles as usize).len());
+    ctx.metric("frames", run_frames);
+    ctx.metric("cycles", planned);
+    ctx.metric("judged_cycles", judged_cycles(planned as usize).len());
     let mut verdict = Verdict::new();
     let series_of = |index: usize| -> Vec<u64> { samples.iter().map(|s| s[index].value).collect() };
     // Where growing process memory lives: in malloc's live blocks, or outside them.
@@ -109,7 +134,7 @@ pub fn soak<T: Soaked>(ctx: &mut Ctx) -> Result<Outcome> {
         if quantity.leak_step.is_some_and(|step| growth.is_leak(step)) {
             let judged = &series[judged_cycles(series.len())];
             verdict.fail(format!(
-                "{}{} keeps growing: {:.1}{unit} a frame ({:.1} a resize cycle of {frames_per_cycle:.0} frames), {} → {} over the last {} cycles; identical cycles vary by {:.1}; p = {:.1e}",
+                "{}{} keeps growing through {run_frames} frames: {:.1}{unit} a frame ({:.1} a resize cycle of {frames_per_cycle:.0} frames), {} → {} over the last {} cycles; identical cycles vary by {:.1}; p = {:.1e}",
                 quantity.name,
                 if quantity.name.starts_with("resident") { &heap_note } else { "" },
                 growth.per_cycle / frames_per_cycle,
