@@ -64,17 +64,23 @@ pub fn growth(samples: &[u64]) -> Option<Growth> {
     if judged.len() < MIN_JUDGED {
         return None;
     }
-    let n = judged.len();
     let observed = slope_numerator(judged.iter().copied());
+    let (per_cycle, noise) = fit(judged, observed);
+    Some(Growth { per_cycle, noise, p: slope_p(judged, observed), judged: judged.len() })
+}
+
+/// The least-squares slope of `samples` against their index, from their slope numerator
+/// `observed`, and the standard deviation of the samples around that line.
+fn fit(samples: &[u64], observed: i128) -> (f64, f64) {
+    let n = samples.len();
     // At doubled centred positions xᵢ = 2i − (n − 1), Σ xᵢ² = n(n² − 1)/3, and the slope per
     // cycle is 2 Σ xᵢyᵢ / Σ xᵢ².
     let per_cycle = 2.0 * observed as f64 / ((n * (n * n - 1)) as f64 / 3.0);
-    let mean = judged.iter().map(|&y| y as f64).sum::<f64>() / n as f64;
+    let mean = samples.iter().map(|&y| y as f64).sum::<f64>() / n as f64;
     let centre = (n - 1) as f64 / 2.0;
     let residual_squares: f64 =
-        judged.iter().enumerate().map(|(i, &y)| (y as f64 - mean - per_cycle * (i as f64 - centre)).powi(2)).sum();
-    let noise = (residual_squares / (n - 2) as f64).sqrt();
-    Some(Growth { per_cycle, noise, p: slope_p(judged, observed), judged: n })
+        samples.iter().enumerate().map(|(i, &y)| (y as f64 - mean - per_cycle * (i as f64 - centre)).powi(2)).sum();
+    (per_cycle, (residual_squares / (n - 2) as f64).sqrt())
 }
 
 /// Σ (2i − (n − 1)) yᵢ: twice the slope's numerator, exact in integers (so ties compare equal).
@@ -227,16 +233,25 @@ mod tests {
         }
 
         #[test]
-        fn the_slope_is_the_least_squares_one(samples in proptest::collection::vec(0u64..1_000_000, 16..30)) {
-            let judged: Vec<f64> = samples[judged_cycles(samples.len())].iter().map(|&y| y as f64).collect();
-            let n = judged.len() as f64;
-            let (mx, my) = ((n - 1.0) / 2.0, judged.iter().sum::<f64>() / n);
-            let sxy: f64 = judged.iter().enumerate().map(|(i, y)| (i as f64 - mx) * (y - my)).sum();
-            let sxx: f64 = (0..judged.len()).map(|i| (i as f64 - mx).powi(2)).sum();
-            let g = growth(&samples).unwrap();
-            prop_assert!((g.per_cycle - sxy / sxx).abs() <= 1e-6 * (1.0 + (sxy / sxx).abs()));
+        fn the_fit_is_the_least_squares_line(judged in proptest::collection::vec(0u64..1_000_000, 3..40)) {
+            let y: Vec<f64> = judged.iter().map(|&v| v as f64).collect();
+            let n = y.len() as f64;
+            let (mx, my) = ((n - 1.0) / 2.0, y.iter().sum::<f64>() / n);
+            let sxy: f64 = y.iter().enumerate().map(|(i, v)| (i as f64 - mx) * (v - my)).sum();
+            let sxx: f64 = (0..y.len()).map(|i| (i as f64 - mx).powi(2)).sum();
+            let slope = sxy / sxx;
+            let residuals: f64 = y.iter().enumerate().map(|(i, v)| (v - my - slope * (i as f64 - mx)).powi(2)).sum();
+            let (per_cycle, noise) = fit(&judged, slope_numerator(judged.iter().copied()));
+            prop_assert!((per_cycle - slope).abs() <= 1e-6 * (1.0 + slope.abs()));
+            let plain_noise = (residuals / (n - 2.0)).sqrt();
+            prop_assert!((noise - plain_noise).abs() <= 1e-6 * (1.0 + plain_noise));
         }
 
+    }
+
+    proptest! {
+        // Few cases: each draws 20 000 orderings twice.
+        #![proptest_config(ProptestConfig::with_cases(16))]
         #[test]
         fn the_verdict_does_not_depend_on_the_level(samples in proptest::collection::vec(0u64..1000, 16..24), level in 0u64..1 << 40) {
             let shifted: Vec<u64> = samples.iter().map(|y| y + level).collect();
