@@ -134,7 +134,7 @@ pub fn soak<T: Soaked>(ctx: &mut Ctx) -> Result<Outcome> {
         if quantity.leak_step.is_some_and(|step| growth.is_leak(step)) {
             let judged = &series[judged_cycles(series.len())];
             verdict.fail(format!(
-                "{}{} keeps growing through {run_frames} frames: {:.1}{unit} a frame ({:.1} a resize cycle of {frames_per_cycle:.0} frames), {} → {} over the last {} cycles; identical cycles vary by {:.1}; p = {:.1e}",
+                "{}{} keeps growing through {run_frames} frames: {:.1}{unit} a frame ({:.1} a resize cycle of {frames_per_cycle:.0} frames), {} → {} over the last {} cycles (identical cycles vary by {:.1}, p = {:.1e})",
                 quantity.name,
                 if quantity.name.starts_with("resident") { &heap_note } else { "" },
                 growth.per_cycle / frames_per_cycle,
