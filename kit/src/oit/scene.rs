@@ -169,6 +169,12 @@ mod tests {
             assert!((0.5..1.1).contains(&(x1 - x0)) && (0.5..1.1).contains(&(y0 - y1)), "layer {i}: {:?}", quad.rect);
             assert!(quad.colour.iter().all(|c| (0.0..1.0).contains(c)));
         }
+        // The corners fill their ranges, not a part of them: within a tenth of each end.
+        for (axis, (low, high)) in [(0, (-0.9, 0.3)), (1, (-0.3, 0.9))] {
+            let corner = |q: &Quad| q.rect[axis];
+            let (min, max) = layers.iter().map(corner).fold((f32::MAX, f32::MIN), |(a, b), v| (a.min(v), b.max(v)));
+            assert!(min < low + 0.1 && max > high - 0.1, "axis {axis}: corners span {min}..{max}");
+        }
         assert_eq!(QuadScene::stiff(40, 9), scene);
         assert_ne!(QuadScene::stiff(40, 10), scene);
         scene.validate().unwrap();
