@@ -40,25 +40,38 @@ pub fn resident_bytes() -> Result<u64> {
     Ok(kib * 1024)
 }
 
-/// Resident bytes of anonymous (or memfd) executable mappings (Linux: /proc/self/smaps): code a JIT
-/// compiled — LLVM's for llvmpipe and lavapipe, Reactor's for SwiftShader — where driver
-/// memory outside malloc usually is.
-fn resident_jit_code() -> Option<u64> {
+/// Resident bytes of two kinds of mapping outside malloc (Linux: /proc/self/smaps): anonymous
+/// or memfd mappings that are executable — code a JIT compiled (LLVM's for llvmpipe and lavapipe,
+/// Reactor's through a memfd for SwiftShader) — and memfd mappings that are not — memory a driver
+/// shares or exports (lavapipe's device memory when zink imports it).
+struct Mappings {
+    jit_code: u64,
+    memfd_data: u64,
+}
+
+fn mappings() -> Option<Mappings> {
     let smaps = std::fs::read_to_string("/proc/self/smaps").ok()?;
-    let mut total = 0;
-    let mut in_jit = false;
+    let mut found = Mappings { jit_code: 0, memfd_data: 0 };
+    // Which total the current mapping's Rss goes to.
+    let mut current: Option<&mut u64> = None;
     for line in smaps.lines() {
         let fields: Vec<&str> = line.split_whitespace().collect();
         // A mapping's header: "start-end perms offset dev inode [path]".
         if fields.first().is_some_and(|f| f.contains('-') && f.chars().all(|c| c.is_ascii_hexdigit() || c == '-')) {
-            // Anonymous, or a memfd (SwiftShader maps its code through one).
-            let anonymous = fields.len() == 5 || fields.get(5).is_some_and(|path| path.starts_with("/memfd:"));
-            in_jit = fields.get(1).is_some_and(|perms| perms.contains('x')) && anonymous;
-        } else if in_jit && fields.first() == Some(&"Rss:") {
-            total += fields.get(1)?.parse::<u64>().ok()? * 1024;
+            let memfd = fields.get(5).is_some_and(|path| path.starts_with("/memfd:"));
+            let executable = fields.get(1).is_some_and(|perms| perms.contains('x'));
+            current = match (executable, memfd || fields.len() == 5) {
+                (true, true) => Some(&mut found.jit_code),
+                (false, true) if memfd => Some(&mut found.memfd_data),
+                _ => None,
+            };
+        } else if fields.first() == Some(&"Rss:")
+            && let Some(total) = current.as_deref_mut()
+        {
+            *total += fields.get(1)?.parse::<u64>().ok()? * 1024;
         }
     }
-    Some(total)
+    Some(found)
 }
 
 /// glibc's heap (mallinfo2, over every arena): bytes in live blocks (arena blocks in use and those
@@ -99,9 +112,10 @@ pub fn sample(gpu: &Gpu) -> Result<Vec<Quantity>> {
         quantities.push(process("heap_live", heap.live, false));
         quantities.push(process("heap_free", heap.free, false));
     }
-    if let Some(code) = resident_jit_code() {
+    if let Some(mappings) = mappings() {
         // Recorded, not judged: where process memory outside malloc grows.
-        quantities.push(process("resident_jit_code", code, false));
+        quantities.push(process("resident_jit_code", mappings.jit_code, false));
+        quantities.push(process("resident_memfd_data", mappings.memfd_data, false));
     }
     let counters = gpu.device.get_internal_counters().hal;
     for (name, counter, is_bytes) in [
