@@ -7,9 +7,8 @@ use anyhow::Result;
 use fragkit::cbr::Checkerboard;
 use fragkit::gpu::Gpu;
 use fragkit::harness::{Case, Ctx, Outcome};
-use fragkit::shaders::{CBR_RECONSTRUCT, CBR_SCENE, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, FRAGMENT_STORAGE, FULLSCREEN, RECT, SAMPLE_COVERAGE_RECORD};
 
-use crate::soak::{PARAMS, Soaked, soak};
+use crate::soak::{self, PARAMS, Soaked};
 
 pub const CASE: Case = Case {
     name: "fault.leak",
@@ -19,7 +18,7 @@ pub const CASE: Case = Case {
     sweep: &[],
     budget_s: 11,
     timed_verdict: false,
-    shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE, CBR_SCENE, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, CBR_RECONSTRUCT],
+    shaders: soak::cbr::SHADERS,
     run,
 };
 
@@ -53,5 +52,5 @@ impl Soaked for Leaking {
 }
 
 fn run(ctx: &mut Ctx) -> Result<Outcome> {
-    soak::<Leaking>(ctx)
+    soak::soak::<Leaking>(ctx)
 }

@@ -7,7 +7,9 @@ use fragkit::cbr::{Checkerboard, CheckerboardConfig, Shading};
 use fragkit::gpu::Gpu;
 use fragkit::harness::{Case, Ctx, Outcome};
 use fragkit::readback::read_texture;
-use fragkit::shaders::{CBR_RECONSTRUCT, CBR_SCENE, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, FRAGMENT_STORAGE, FULLSCREEN, RECT, SAMPLE_COVERAGE_RECORD};
+use fragkit::shaders::{
+    CBR_RECONSTRUCT, CBR_SCENE, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, FRAGMENT_STORAGE, FULLSCREEN, RECT, SAMPLE_COVERAGE_RECORD, ShaderFile,
+};
 
 use super::{PARAMS, Soaked, soak};
 
@@ -19,9 +21,13 @@ pub const CASE: Case = Case {
     sweep: &[],
     budget_s: 11,
     timed_verdict: false,
-    shaders: &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE, CBR_SCENE, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, CBR_RECONSTRUCT],
+    shaders: SHADERS,
     run,
 };
+
+/// The shader files the checkerboard soak's pipelines are built from (`fault.leak` runs it too).
+pub const SHADERS: &[ShaderFile] =
+    &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE, CBR_SCENE, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, CBR_RECONSTRUCT];
 
 impl Soaked for Checkerboard {
     fn new(gpu: &Gpu, size: (u32, u32)) -> Result<Self> {

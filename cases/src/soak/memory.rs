@@ -59,11 +59,14 @@ fn mappings() -> Option<Mappings> {
         // A mapping's header: "start-end perms offset dev inode [path]".
         if fields.first().is_some_and(|f| f.contains('-') && f.chars().all(|c| c.is_ascii_hexdigit() || c == '-')) {
             let memfd = fields.get(5).is_some_and(|path| path.starts_with("/memfd:"));
+            let anonymous = fields.len() == 5;
             let executable = fields.get(1).is_some_and(|perms| perms.contains('x'));
-            current = match (executable, memfd || fields.len() == 5) {
-                (true, true) => Some(&mut found.jit_code),
-                (false, true) if memfd => Some(&mut found.memfd_data),
-                _ => None,
+            current = if executable && (anonymous || memfd) {
+                Some(&mut found.jit_code)
+            } else if memfd {
+                Some(&mut found.memfd_data)
+            } else {
+                None
             };
         } else if fields.first() == Some(&"Rss:")
             && let Some(total) = current.as_deref_mut()

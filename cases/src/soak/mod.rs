@@ -18,7 +18,7 @@ fragkit::cases! {
 use anyhow::{Context, Result, bail};
 use fragkit::gpu::Gpu;
 use fragkit::harness::{Ctx, Outcome, ParamKind, ParamSpec, Verdict};
-use fragkit::memory_growth::{MIN_JUDGED, growth, judged_cycles};
+use fragkit::memory_growth::{Growth, MIN_JUDGED, growth, judged_cycles};
 
 mod memory;
 use memory::Quantity;
@@ -55,13 +55,29 @@ fn cycle_start(cycle: u32, cycles: u32, frames: u32) -> u32 {
 /// within twice the requested length) or the run is this many times as long (a leak).
 const MAX_EXTENSION: u32 = 4;
 
-/// Growth that may be a leak in any judged quantity of `samples` (a run's per-cycle samples).
-fn growing(samples: &[Vec<Quantity>]) -> bool {
-    (0..samples[0].len()).any(|index| {
-        let series: Vec<u64> = samples.iter().map(|s| s[index].value).collect();
-        let leak_step = samples[0][index].leak_step;
-        growth(&series).is_some_and(|g| leak_step.is_some_and(|step| g.is_leak(step)))
-    })
+/// One sampled quantity over a run: its value at each cycle's end, and how it grew.
+struct Judged {
+    quantity: Quantity,
+    series: Vec<u64>,
+    growth: Growth,
+}
+
+impl Judged {
+    /// Growth in it that is a leak (see `memory.rs` for which quantities can leak).
+    fn leaks(&self) -> bool {
+        self.quantity.leak_step.is_some_and(|step| self.growth.is_leak(step))
+    }
+}
+
+/// Every quantity of a run's per-cycle `samples`, with its growth.
+fn judge(samples: &[Vec<Quantity>]) -> Result<Vec<Judged>> {
+    (0..samples[0].len())
+        .map(|index| {
+            let series: Vec<u64> = samples.iter().map(|s| s[index].value).collect();
+            let growth = growth(&series).context("too few cycles to judge growth")?;
+            Ok(Judged { quantity: samples[0][index], series, growth })
+        })
+        .collect()
 }
 
 /// Runs the soak for technique `T`.
@@ -72,6 +88,7 @@ pub fn soak<T: Soaked>(ctx: &mut Ctx) -> Result<Outcome> {
     let frames = ctx.params.count_u32("frames")?;
     let cycles = ctx.params.count_u32("cycles")?;
     let mut samples: Vec<Vec<Quantity>> = Vec::new();
+    let mut judged = Vec::new();
     let mut last = Vec::new();
     let mut planned = cycles;
     let mut cycle = 0;
@@ -84,11 +101,13 @@ pub fn soak<T: Soaked>(ctx: &mut Ctx) -> Result<Outcome> {
         ctx.gpu.wait()?;
         samples.push(memory::sample(ctx.gpu)?);
         cycle += 1;
-        if cycle == planned && planned < MAX_EXTENSION * cycles && growing(&samples) {
-            planned *= 2;
-        }
         if cycle == planned {
-            last = technique.output(ctx.gpu)?;
+            judged = judge(&samples)?;
+            if planned < MAX_EXTENSION * cycles && judged.iter().any(Judged::leaks) {
+                planned *= 2;
+            } else {
+                last = technique.output(ctx.gpu)?;
+            }
         }
     }
     if last.is_empty() {
@@ -107,16 +126,13 @@ pub fn soak<T: Soaked>(ctx: &mut Ctx) -> Result<Outcome> {
     ctx.metric("cycles", planned);
     ctx.metric("judged_cycles", judged_cycles(planned as usize).len());
     let mut verdict = Verdict::new();
-    let series_of = |index: usize| -> Vec<u64> { samples.iter().map(|s| s[index].value).collect() };
     // Where growing process memory lives: in malloc's live blocks, or outside them.
-    let heap_live = samples[0].iter().position(|q| q.name == "heap_live").map(&series_of);
-    let heap_note = match heap_live.as_deref().and_then(growth) {
-        Some(heap) => format!(" (the live heap: {:.1} bytes a frame)", heap.per_cycle / frames_per_cycle),
+    let heap_note = match judged.iter().find(|j| j.quantity.name == "heap_live") {
+        Some(heap) => format!(" (the live heap: {:.1} bytes a frame)", heap.growth.per_cycle / frames_per_cycle),
         None => String::new(),
     };
-    for (index, quantity) in samples[0].iter().enumerate() {
-        let series = series_of(index);
-        let growth = growth(&series).context("too few cycles to judge growth")?;
+    for judged in &judged {
+        let Judged { quantity, series, growth } = judged;
         let unit = if quantity.bytes { " bytes" } else { "" };
         if quantity.bytes {
             ctx.metric(
@@ -124,23 +140,23 @@ pub fn soak<T: Soaked>(ctx: &mut Ctx) -> Result<Outcome> {
                 series.iter().map(|&b| b as f64 / 1048576.0).collect::<Vec<_>>(),
             );
         } else {
-            ctx.metric(&format!("{}_per_cycle", quantity.name), &series);
+            ctx.metric(&format!("{}_per_cycle", quantity.name), series);
         }
         if growth.per_cycle != 0.0 {
             ctx.metric(&format!("{}_growth_per_frame", quantity.name), growth.per_cycle / frames_per_cycle);
             ctx.metric(&format!("{}_noise_per_cycle", quantity.name), growth.noise);
             ctx.metric(&format!("{}_growth_p", quantity.name), growth.p);
         }
-        if quantity.leak_step.is_some_and(|step| growth.is_leak(step)) {
-            let judged = &series[judged_cycles(series.len())];
+        if judged.leaks() {
+            let last_cycles = &series[judged_cycles(series.len())];
             verdict.fail(format!(
                 "{}{} keeps growing through {run_frames} frames: {:.1}{unit} a frame ({:.1} a resize cycle of {frames_per_cycle:.0} frames), {} → {} over the last {} cycles (identical cycles vary by {:.1}, p = {:.1e})",
                 quantity.name,
                 if quantity.name.starts_with("resident") { &heap_note } else { "" },
                 growth.per_cycle / frames_per_cycle,
                 growth.per_cycle,
-                judged[0],
-                judged[judged.len() - 1],
+                last_cycles[0],
+                last_cycles[last_cycles.len() - 1],
                 growth.judged,
                 growth.noise,
                 growth.p
