@@ -16,7 +16,8 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: PARAMS,
     sweep: &[],
-    budget_s: 11,
+    // A leaking soak runs on to four times its length: softpipe's 4000 frames.
+    budget_s: 197,
     timed_verdict: false,
     shaders: soak::cbr::SHADERS,
     run,
@@ -28,8 +29,14 @@ const LEAK_BYTES: usize = 64 << 10;
 struct Leaking(Checkerboard);
 
 impl Soaked for Leaking {
-    fn new(gpu: &Gpu, size: (u32, u32)) -> Result<Self> {
-        <Checkerboard as Soaked>::new(gpu, size).map(Self)
+    type Setup = <Checkerboard as Soaked>::Setup;
+
+    fn setup(gpu: &Gpu) -> Result<Self::Setup> {
+        <Checkerboard as Soaked>::setup(gpu)
+    }
+
+    fn new(gpu: &Gpu, setup: &Self::Setup, size: (u32, u32)) -> Result<Self> {
+        <Checkerboard as Soaked>::new(gpu, setup, size).map(Self)
     }
 
     fn render(&mut self, gpu: &Gpu, frame: u32) -> Result<()> {

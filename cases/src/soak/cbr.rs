@@ -19,7 +19,7 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: PARAMS,
     sweep: &[],
-    budget_s: 11,
+    budget_s: 85,
     timed_verdict: false,
     shaders: SHADERS,
     run,
@@ -30,13 +30,16 @@ pub const SHADERS: &[ShaderFile] =
     &[RECT, FULLSCREEN, SAMPLE_COVERAGE_RECORD, FRAGMENT_STORAGE, CBR_SCENE, CBR_SHADE_MSAA_SAMPLES, CBR_UNPACK_SAMPLES, CBR_RECONSTRUCT];
 
 impl Soaked for Checkerboard {
-    fn new(gpu: &Gpu, size: (u32, u32)) -> Result<Self> {
+    /// The checkerboard path this adapter gets (real 2x, or the offset passes).
+    type Setup = CheckerboardPath;
+
+    fn setup(gpu: &Gpu) -> Result<CheckerboardPath> {
+        Ok(CheckerboardPath::for_adapter(gpu))
+    }
+
+    fn new(gpu: &Gpu, path: &CheckerboardPath, size: (u32, u32)) -> Result<Self> {
         let scene = textured_corridor(5, 8, Motion::Object(0.01));
-        Checkerboard::new(
-            gpu,
-            &scene,
-            CheckerboardConfig::new(size, CheckerboardPath::for_adapter(gpu), Shading::Forward),
-        )
+        Checkerboard::new(gpu, &scene, CheckerboardConfig::new(size, *path, Shading::Forward))
     }
 
     fn render(&mut self, gpu: &Gpu, frame: u32) -> Result<()> {

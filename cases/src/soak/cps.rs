@@ -21,7 +21,7 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: PARAMS,
     sweep: &[],
-    budget_s: 44,
+    budget_s: 51,
     timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, GBUFFER, CPS_LOD, CPS_LIGHTING, CPS_COMPOSITE, CPS_STENCIL_MARK],
     run,
@@ -35,7 +35,13 @@ struct CpsSoak {
 }
 
 impl Soaked for CpsSoak {
-    fn new(gpu: &Gpu, size: (u32, u32)) -> Result<Self> {
+    type Setup = ();
+
+    fn setup(_gpu: &Gpu) -> Result<()> {
+        Ok(())
+    }
+
+    fn new(gpu: &Gpu, _setup: &(), size: (u32, u32)) -> Result<Self> {
         let scene = corridor(1, 8);
         let config = CpsConfig::new(4, LodPolicy::foveated(), CompositeMode::SeamFree);
         Ok(Self {

@@ -23,7 +23,7 @@ pub const CASE: Case = Case {
     requires: wgpu::Features::empty(),
     params: PARAMS,
     sweep: &[],
-    budget_s: 34,
+    budget_s: 76,
     timed_verdict: false,
     shaders: &[RECT, FULLSCREEN, ALPHA_RAMP, OIT_QUAD, OIT_NOISE_STEP, OIT_STOCHASTIC, OIT_SAMPLE_MASK, OIT_TEMPORAL, OIT_BILATERAL],
     run,
@@ -40,12 +40,18 @@ struct OitSoak {
 }
 
 impl Soaked for OitSoak {
-    fn new(gpu: &Gpu, size: (u32, u32)) -> Result<Self> {
+    /// The variant this adapter runs.
+    type Setup = Stochastic;
+
+    fn setup(gpu: &Gpu) -> Result<Stochastic> {
         let variants = available_variants(gpu, SAMPLES)?;
-        let variant = variants.iter().find(|v| **v == Stochastic::SampleMask).unwrap_or(&variants[0]).clone();
+        Ok(variants.iter().find(|v| **v == Stochastic::SampleMask).unwrap_or(&variants[0]).clone())
+    }
+
+    fn new(gpu: &Gpu, variant: &Stochastic, size: (u32, u32)) -> Result<Self> {
         Ok(Self {
             scene: QuadScene::stiff(16, 3),
-            variant,
+            variant: variant.clone(),
             target: ResolvedTarget::new(gpu, size, SAMPLES, COVERAGE_COLOUR),
             noise: PingPongNoise::new(gpu, size, 3),
             filter: PostFilter::new(gpu, size),

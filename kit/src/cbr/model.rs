@@ -221,13 +221,13 @@ impl<'a> ReconstructionModel<'a> {
                 }
             }
         }
-        // Frame 0's previous frame is itself: its motion is zero.
-        let step = if frame == 0 { 0.0 } else { 1.0 };
+
         Some(Shown {
             rect,
             distance: f64::from(distance),
             moving: opaque.velocity != Vec2::ZERO,
-            motion: self.image_motion[rect].map(|m| m * step),
+            // Frame 0's previous frame is itself: its motion is zero.
+            motion: if frame == 0 { [0.0, 0.0] } else { self.image_motion[rect] },
             colour,
             peak,
         })
@@ -266,8 +266,7 @@ impl<'a> ReconstructionModel<'a> {
         }
         // The cardinal neighbours frame N sampled, in the shader's order.
         let mut neighbours = Vec::new();
-        for (dx, dy) in [(-1, 0), (1, 0), (0, -1), (0, 1)] {
-            let (nx, ny) = (x + dx, y + dy);
+        for (nx, ny) in [(x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)] {
             if !self.on_screen(nx, ny) || !now[self.index(nx, ny)] {
                 continue;
             }
@@ -314,18 +313,9 @@ impl<'a> ReconstructionModel<'a> {
         // The decision must not change anywhere within the motion's rounding.
         let precision = motion_precision(motion[0].hypot(motion[1]));
         let mut decisions = Vec::new();
-        for (ex, ey) in [
-            (0.0, 0.0),
-            (-1.0, -1.0),
-            (-1.0, 0.0),
-            (-1.0, 1.0),
-            (0.0, -1.0),
-            (0.0, 1.0),
-            (1.0, -1.0),
-            (1.0, 0.0),
-            (1.0, 1.0),
-        ] {
-            let perturbed = [motion[0] + ex * precision, motion[1] + ey * precision];
+        // The motion and its eight neighbours one precision away on each axis (a 3×3 grid).
+        let axis = |m: f64| [m, m - precision, m + precision];
+        for perturbed in axis(motion[0]).into_iter().flat_map(|mx| axis(motion[1]).map(|my| [mx, my])) {
             match self.decide(frames, (x, y), perturbed, mean_depth, moving_object) {
                 Ok(decision) => decisions.push(decision),
                 Err(reason) => return Expected::Unknowable(reason),
@@ -364,8 +354,8 @@ impl<'a> ReconstructionModel<'a> {
             return Ok(Decision::Fill(PixelSource::OffScreen));
         }
         let was = (then[0].floor() as i64, then[1].floor() as i64);
-        let candidates = [(0, 0), (-1, 0), (1, 0), (0, -1), (0, 1)];
-        let history = candidates.iter().map(|(dx, dy)| (was.0 + dx, was.1 + dy)).find(|&(cx, cy)| {
+        let candidates = [was, (was.0 - 1, was.1), (was.0 + 1, was.1), (was.0, was.1 - 1), (was.0, was.1 + 1)];
+        let history = candidates.into_iter().find(|&(cx, cy)| {
             let direct = (cx, cy) == was;
             let within = (cx as f64 + 0.5 - then[0]).abs() <= 0.5 + EDGE_SLACK
                 && (cy as f64 + 0.5 - then[1]).abs() <= 0.5 + EDGE_SLACK;
@@ -562,6 +552,8 @@ mod tests {
         let rects = [PixelRect::opaque([-16, -16, 5, 24], 10.0, R), PixelRect::opaque([5, -16, 24, 24], 20.0, B)];
         let with = |tolerance| source(&frame(&rects, pan(2.0), Detection::Cso { tolerance }, 1), 6, 2);
         assert_eq!(with(0.2), Err(NEAR_THE_TOLERANCE));
+        // A margin of 0.005 m: within the depth's precision at 12.5 m (0.012).
+        assert_eq!(with(0.1996), Err(NEAR_THE_TOLERANCE));
         assert_eq!(with(0.1), Ok(PixelSource::Disoccluded));
         assert_eq!(with(0.3), Ok(PixelSource::History));
     }
@@ -651,6 +643,92 @@ mod tests {
         assert!(!still.objects_move && !still.camera_moves);
         let forward = CameraMotion { pan_pixels: Vec2::ZERO, travel: Vec3::new(0.0, 0.0, 1.0) };
         assert!(ReconstructionModel::new(&rects, forward, SCREEN, CSO).is_err());
+    }
+
+    fn pan_xy(x: f32, y: f32) -> CameraMotion {
+        CameraMotion { pan_pixels: Vec2::new(x, y), travel: Vec3::ZERO }
+    }
+
+    /// A sample centre just outside a rect's corner, within the edge precision of both edges, is
+    /// open; one within the precision of one edge's line but beside the rect is not.
+    #[test]
+    fn a_sample_centre_beside_a_corner_is_open_only_near_both_edges() {
+        // Moving 0.55 a frame both ways: in frame 1 the top-left corner lies at (2.55, 2.55).
+        let rect = [PixelRect::opaque([2, 2, 6, 6], 20.0, R).moving(Vec2::new(0.55, 0.55))];
+        let model = ReconstructionModel::new(&rect, CameraMotion::default(), SCREEN, CSO).unwrap();
+        assert_eq!(model.covers(0, 1, 2, 2), None, "(2.5, 2.5): 0.05 outside both edges");
+        assert_eq!(model.covers(0, 1, 2, 0), Some(false), "near the left edge's line only, far above");
+        assert_eq!(model.covers(0, 1, 0, 2), Some(false), "near the top edge's line only, far left");
+    }
+
+    /// The front-most opaque rect shows, wherever it stands in the list; of two at one distance,
+    /// the first drawn (the depth test passes on less).
+    #[test]
+    fn the_nearest_opaque_rect_shows_whatever_its_place_in_the_list() {
+        let near_first = [PixelRect::opaque([0, 0, 8, 8], 10.0, R), backdrop()];
+        assert_known(
+            at(&frame(&near_first, CameraMotion::default(), CSO, 0), 2, 2),
+            PixelSource::Current,
+            f64s(R),
+            0.8 / 512.0,
+        );
+        let tied = [PixelRect::opaque([0, 0, 8, 8], 40.0, R), backdrop()];
+        assert_known(
+            at(&frame(&tied, CameraMotion::default(), CSO, 0), 2, 2),
+            PixelSource::Current,
+            f64s(R),
+            0.8 / 512.0,
+        );
+        // A transparent at the opaque surface's own distance is not in front of it.
+        let level = [backdrop(), PixelRect::opaque([0, 0, 8, 8], 40.0, R).transparent(0.5)];
+        assert_known(
+            at(&frame(&level, CameraMotion::default(), CSO, 0), 2, 2),
+            PixelSource::Current,
+            f64s(B),
+            0.6 / 512.0,
+        );
+    }
+
+    /// Neighbours less than the depth's precision apart (2^-10 of the front one's distance) tie.
+    #[test]
+    fn neighbours_within_the_depth_precision_tie() {
+        let rects = [PixelRect::opaque([-16, -16, 4, 24], 20.0, R), PixelRect::opaque([4, -16, 24, 24], 20.01, B)];
+        assert_eq!(source(&frame(&rects, CameraMotion::default(), CSO, 1), 4, 2), Err(FRONT_TIE));
+    }
+
+    /// Vertical motion: history from where the content was above, off the screen at the top, and
+    /// from the pixel above within the slack.
+    #[test]
+    fn a_vertical_pan_takes_history_from_above() {
+        let one = |y_pan: f32, detection| frame(&[backdrop()], pan_xy(0.0, y_pan), detection, 1);
+        // (3, 1) was at (3.5, -0.5): above the screen.
+        assert_eq!(source(&one(2.0, CSO), 3, 1), Ok(PixelSource::OffScreen));
+        assert_eq!(source(&one(2.0, CSO), 3, 5), Ok(PixelSource::History));
+        // Up half a pixel and a little: (4, 4) was at (4.5, 5.008), in the unsampled row 5 of
+        // column 4, within the slack of (4, 4) above it; the same to the left.
+        assert_eq!(source(&one(-(0.5 + 1.0 / 128.0), CSO), 4, 4), Ok(PixelSource::History));
+        let left = frame(&[backdrop()], pan(-(0.5 + 1.0 / 128.0)), CSO, 1);
+        assert_eq!(source(&left, 4, 4), Ok(PixelSource::History));
+        // Down half a pixel and a little: (4, 4) was at (4.5, 3.992), within the slack of (4, 4).
+        assert_eq!(source(&one(0.5 + 1.0 / 128.0, CSO), 4, 4), Ok(PixelSource::History));
+    }
+
+    /// A diagonal motion one precision past ASO's threshold: the grid's inward diagonal point
+    /// (√2 precisions in) crosses it, its inward axis points (1/√2 in) do not — open.
+    #[test]
+    fn a_diagonal_motion_near_the_threshold_is_open_through_the_diagonal_perturbation() {
+        let threshold = QUARTER_PIXEL - EDGE_SLACK;
+        let length = threshold + motion_precision(threshold);
+        let a = (length / 2f64.sqrt()) as f32;
+        assert_eq!(source(&frame(&[backdrop()], pan_xy(a, a), Detection::Aso, 1), 4, 4), Err(NEAR_A_DECISION));
+        // Half a precision short of it along x: the outward point crosses.
+        let short = (threshold - motion_precision(threshold) / 2.0) as f32;
+        assert_eq!(source(&frame(&[backdrop()], pan(short), Detection::Aso, 1), 4, 4), Err(NEAR_A_DECISION));
+        let clear = (threshold + 3.0 * motion_precision(threshold)) / 2f64.sqrt();
+        assert_eq!(
+            source(&frame(&[backdrop()], pan_xy(clear as f32, clear as f32), Detection::Aso, 1), 4, 4),
+            Ok(PixelSource::Assumed)
+        );
     }
 
     /// The rounding bounds: motion 2^-10 of (1 + length); a stored colour 2^-9 of its peak (never

@@ -113,6 +113,10 @@ mod tests {
         }
         let nan = Comparison::of(&expected[..1], &[0.5, f32::NAN, 0.5, 1.0], &sources[..1], 1);
         assert_eq!(nan.wrong, [true]);
+        // Each pixel is read at its own four floats.
+        let two = [known(PixelSource::Current, [0.5, 0.5, 0.5]), known(PixelSource::Current, [0.9, 0.1, 0.2])];
+        let right = Comparison::of(&two, &[0.5, 0.5, 0.5, 1.0, 0.9, 0.1, 0.2, 1.0], &[PixelSource::Current; 2], 2);
+        assert_eq!(right.wrong, [false, false]);
         // The evidence: result, model (black where unknowable), the mask red where wrong.
         let image = comparison.evidence((2, 2), &expected, &colours).unwrap();
         assert_eq!(image.dimensions(), (6, 2));

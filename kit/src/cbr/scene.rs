@@ -455,7 +455,7 @@ mod tests {
         for (x, y) in [(0, 5), (1, 5), (32, 5), (5, 0), (5, 1), (5, 33), (40, 16), (40, 17), (100, 48)] {
             assert_eq!(texel(x, y), mortar, "({x}, {y}) is mortar");
         }
-        for (x, y) in [(2, 5), (5, 2), (40, 0), (40, 14), (8, 16), (31, 31)] {
+        for (x, y) in [(2, 5), (5, 2), (40, 0), (40, 14), (8, 16), (31, 31), (40, 40), (100, 40), (70, 100)] {
             let grain = crate::scene::hash::hash_unit(y * ALBEDO_MAP_SIZE + x);
             let tile = crate::scene::hash::hash_unit(0x9e37 + (y / 32) * 8 + x / 32);
             let value = 0.65 + 0.25 * tile + 0.1 * grain;
@@ -551,6 +551,8 @@ mod tests {
     fn seeded_rects_lie_on_screen_in_front_of_the_backdrop() {
         let screen = (37, 23);
         let mut extremes = (f32::MAX, f32::MIN);
+        // Whether some rect reaches the right and the bottom edge (x1, y1 range up to the screen's).
+        let mut reach = (false, false);
         for seed in 0..40 {
             let rects = seeded_rects(screen, seed);
             assert_eq!(rects.len(), 13);
@@ -559,6 +561,7 @@ mod tests {
                 assert!(0 <= r.x0 && r.x0 < r.x1 && r.x1 <= 37 && 0 <= r.y0 && r.y0 < r.y1 && r.y1 <= 23, "{r:?}");
                 assert!((2.0..32.0).contains(&r.distance), "{r:?}");
                 extremes = (extremes.0.min(r.distance), extremes.1.max(r.distance));
+                reach = (reach.0 || r.x1 == 37, reach.1 || r.y1 == 23);
             }
             for r in &rects {
                 assert!(r.albedo.iter().all(|&c| (c * 255.0).fract() == 0.0 && (0.0..=1.0).contains(&c)), "{r:?}");
@@ -568,6 +571,7 @@ mod tests {
             assert_ne!(seeded_rects(screen, seed + 1000), rects);
         }
         assert!(extremes.0 < 3.0 && extremes.1 > 31.0, "distances span {extremes:?}");
+        assert_eq!(reach, (true, true), "rects reaching the right and bottom edges");
         let scene = flat_rects(screen, 3, Vec2::new(1.0, 0.0));
         assert_eq!((scene.name.as_str(), scene.draws.len()), ("flat_rects", 13));
         assert_eq!(scene.camera_motion, CameraMotion { pan_pixels: Vec2::new(1.0, 0.0), travel: Vec3::ZERO });
@@ -616,11 +620,34 @@ mod tests {
                     assert!((offset.dot(normal) - 0.45).abs() < 1e-5, "{offset} along {normal}");
                     assert!(offset.abs().max_element() <= 0.45 + 1e-5);
                 }
+                // Each face (two triangles) spans its square: four distinct corners of the cube.
+                for face in scene.vertices[cube.vertices.start as usize..cube.vertices.end as usize].chunks(6) {
+                    let mut corners: Vec<[i32; 3]> = face
+                        .iter()
+                        .map(|v| (Vec3::from_array(v.position) - Vec3::new(-1.8, 1.3, -2.0)).to_array())
+                        .map(|o| o.map(|c| (c / 0.45).round() as i32))
+                        .collect();
+                    corners.sort();
+                    corners.dedup();
+                    assert_eq!(corners.len(), 4, "{corners:?}");
+                    assert!(corners.iter().flatten().all(|c| c.abs() == 1), "{corners:?}");
+                }
             }
             let panes = &scene.draws[scene.draws.len() - 2..];
             assert!(panes.iter().all(|d| d.transparent && d.velocity == Vec3::ZERO && d.vertices.len() == 6));
             let z = |d: &Draw| scene.vertices[d.vertices.start as usize].position[2];
             assert_eq!((z(&panes[0]), z(&panes[1])), (-9.0, -3.0));
+            // Each pane spans the corridor: x from −1.2 to 1.0, y from 0.2 to 2.2.
+            for pane in panes {
+                let positions = &scene.vertices[pane.vertices.start as usize..pane.vertices.end as usize];
+                let extent = |axis: usize| {
+                    positions
+                        .iter()
+                        .map(|v| v.position[axis])
+                        .fold((f32::MAX, f32::MIN), |(lo, hi), p| (lo.min(p), hi.max(p)))
+                };
+                assert_eq!((extent(0), extent(1)), ((-1.2, 1.0), (0.2, 2.2)));
+            }
             assert!(scene.has_transparents());
         }
     }
