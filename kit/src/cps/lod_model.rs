@@ -354,6 +354,11 @@ mod tests {
         // jump is within 0.5 · 2.
         let eye_back = DVec3::new(0.0, 0.0, 1.0);
         assert_eq!(across_edge(&a, &behind(1000), eye_back, 0.5, 0.5), Some(false));
+        // The open band is relative to jump + allowed: from 2 m the allowed jump is 1 m, and f32
+        // steps at 2 are 2^-22, so the band 2^-20 (1 + 1) is 8 of them.
+        let far_behind = |steps: i32| facing([0.0, 0.0, -2.0 - steps as f32 * 2f32.powi(-22)], [0.0, 0.0, 1.0]);
+        assert_eq!(across_edge(&a, &far_behind(5), eye_back, 0.5, 0.5), None);
+        assert_eq!(across_edge(&a, &far_behind(12), eye_back, 0.5, 0.5), Some(true));
         // A decided edge on one test settles an open call on the other; a decided non-edge does not.
         let both = |normal_steps: i32, depth_steps: i32| {
             let mut b = tilted(normal_steps);
