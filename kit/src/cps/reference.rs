@@ -370,6 +370,9 @@ mod tests {
         // Their samples: level 0 pixels (0,0), (0,1); level 1 texels (0,0), (1,0) at pixels (1,1)
         // and (2,1) (the centre clamped to the screen); level 2 texel (0,0) at (2,1).
         assert_eq!(shaded_samples((3, 2), &lod, 2), vec![0, 3, 4, 5, 5]);
+        // Full detail on three rows: every pixel once, row by row (a texel's row is its index over
+        // the level's width).
+        assert_eq!(shaded_samples((2, 3), &[0; 6], 0), vec![0, 1, 2, 3, 4, 5]);
     }
 
     #[test]
