@@ -623,6 +623,9 @@ mod tests {
         assert!((error - 0.5).abs() < 1e-12, "{error}");
         // No LOD change, no seam.
         assert_eq!(seam_error((2, 2), &[1; 4], &image, &reference), 0.0);
+        // An image offset from the reference by a constant steps as it does: no seam.
+        let pair = |values: [f32; 2]| values.map(|v| [v, v, v, 1.0]).to_vec();
+        assert_eq!(seam_error((2, 1), &[0, 1], &pair([2.0, 3.0]), &pair([1.0, 2.0])), 0.0);
     }
 
     /// A composite's alpha is 1 whatever the lit level's alpha.
