@@ -666,27 +666,13 @@ mod tests {
     #[test]
     fn the_nearest_opaque_rect_shows_whatever_its_place_in_the_list() {
         let near_first = [PixelRect::opaque([0, 0, 8, 8], 10.0, R), backdrop()];
-        assert_known(
-            at(&frame(&near_first, CameraMotion::default(), CSO, 0), 2, 2),
-            PixelSource::Current,
-            f64s(R),
-            0.8 / 512.0,
-        );
         let tied = [PixelRect::opaque([0, 0, 8, 8], 40.0, R), backdrop()];
-        assert_known(
-            at(&frame(&tied, CameraMotion::default(), CSO, 0), 2, 2),
-            PixelSource::Current,
-            f64s(R),
-            0.8 / 512.0,
-        );
         // A transparent at the opaque surface's own distance is not in front of it.
         let level = [backdrop(), PixelRect::opaque([0, 0, 8, 8], 40.0, R).transparent(0.5)];
-        assert_known(
-            at(&frame(&level, CameraMotion::default(), CSO, 0), 2, 2),
-            PixelSource::Current,
-            f64s(B),
-            0.6 / 512.0,
-        );
+        for (rects, shown, peak) in [(&near_first, R, 0.8), (&tied, R, 0.8), (&level, B, 0.6)] {
+            let zero = frame(rects, CameraMotion::default(), CSO, 0);
+            assert_known(at(&zero, 2, 2), PixelSource::Current, f64s(shown), peak / 512.0);
+        }
     }
 
     /// Neighbours less than the depth's precision apart (2^-10 of the front one's distance) tie.

@@ -618,14 +618,13 @@ mod tests {
         green[1][1] = 0.6;
         assert!((seam_error((2, 2), &lod, &green, &reference) - (2.0 / 3.0 + 0.6 / 3.0 / 2.0)).abs() < 1e-6);
         // On 3×1 with LODs 0, 0, 1: only the pair (1, 2), whatever happens elsewhere.
-        let row = |values: [f32; 3]| values.map(|v| [v, v, v, 1.0]).to_vec();
-        let error = seam_error((3, 1), &[0, 0, 1], &row([9.0, 2.0, 1.0]), &row([-9.0, 2.0, 1.5]));
+        let row = |values: &[f32]| values.iter().map(|&v| [v, v, v, 1.0]).collect::<Vec<_>>();
+        let error = seam_error((3, 1), &[0, 0, 1], &row(&[9.0, 2.0, 1.0]), &row(&[-9.0, 2.0, 1.5]));
         assert!((error - 0.5).abs() < 1e-12, "{error}");
         // No LOD change, no seam.
         assert_eq!(seam_error((2, 2), &[1; 4], &image, &reference), 0.0);
         // An image offset from the reference by a constant steps as it does: no seam.
-        let pair = |values: [f32; 2]| values.map(|v| [v, v, v, 1.0]).to_vec();
-        assert_eq!(seam_error((2, 1), &[0, 1], &pair([2.0, 3.0]), &pair([1.0, 2.0])), 0.0);
+        assert_eq!(seam_error((2, 1), &[0, 1], &row(&[2.0, 3.0]), &row(&[1.0, 2.0])), 0.0);
     }
 
     /// A composite's alpha is 1 whatever the lit level's alpha.
