@@ -297,6 +297,25 @@ mod tests {
         assert!(checked > 20_000, "{checked} texels checked");
     }
 
+    /// A block whose farthest pixel centre lies just inside a boundary, within the marks' own
+    /// widening (2^-20), may be marked for the coarser level, so it is spanned for it; and one
+    /// whose nearest lies just past a boundary, for the finer level. On an 8×1 screen with the
+    /// focus at (0, 0.5), level 1's texel 1 covers pixels 2 and 3, whose centres lie at squared
+    /// distances 6.25 and 12.25.
+    #[test]
+    fn a_block_the_marks_widen_across_a_boundary_is_spanned_for_that_level() {
+        let marks_widening = f64::from(2f32.powi(-20));
+        let boundary = 12.25 * (1.0 + 2f64.powi(-21));
+        assert!(12.25 * (1.0 + marks_widening) >= boundary, "the marks' widening reaches R_1");
+        let rule = MarkRule { screen: (8, 1), focus: (0.0, 0.5), squared_boundaries: vec![boundary, 1e6] };
+        assert!(rule.may_mark(1, 1, 0), "level 1's texel 1, its far centre 2^-21 inside R_1");
+        assert!(!rule.may_mark(2, 0, 0), "level 2's texel 0: pixels 0–3 lie within R_2");
+        let boundary = 6.25 * (1.0 - 2f64.powi(-21));
+        assert!(6.25 * (1.0 - marks_widening) < boundary, "the marks' widening reaches back past R_1");
+        let rule = MarkRule { screen: (8, 1), focus: (0.0, 0.5), squared_boundaries: vec![boundary] };
+        assert!(rule.may_mark(0, 2, 0), "level 0's texel 2, 2^-21 past R_1");
+    }
+
     /// The spans are as tight as their grain allows: their edges on the `BAND` grid or the
     /// level's bounds; none overlapping, none that could have extended another (same columns,
     /// one ending where the other starts); every `BAND`-square block of the grid inside one holds

@@ -603,6 +603,93 @@ mod tests {
         assert!((image[24 + 2][0] - want).abs() < 1e-3, "(2, 3): {:?} against {want}", image[24 + 2]);
     }
 
+    /// Which fragments the 4-neighbour composite reads, as `fs_composite_four_neighbour` picks
+    /// them: a single-pixel fragment lies at q = 0, where `select(1, -1, q < 0.0)` steps right and
+    /// down (its weights are 0, but the colours it reads enter the bound); and the diagonal is
+    /// reached across the larger |q| first, which lands on another fragment where a small one
+    /// stands beside a large one.
+    #[test]
+    fn four_neighbour_reads_right_and_below_at_q_zero_and_the_diagonal_across_the_larger_offset() {
+        let colour = |v: f32| [v, 0.0, 0.0, 1.0];
+        let single = [Level { extent: (3, 3), texels: (0..9).map(|i| colour(1.0 + i as f32)).collect() }];
+        let inputs = CompositeInputs { screen: (3, 3), lod: &[0; 9], lit: &single };
+        let (own, read) = inputs.four_neighbour([1, 1]);
+        assert_eq!(own, colour(5.0));
+        assert_eq!(read, [5.0, 6.0, 8.0, 9.0].map(colour), "(1, 1) reads (1, 1), (2, 1), (1, 2), (2, 2)");
+        // Left half: 4×4 fragments (level 2), right half single pixels. Pixel (3, 2) lies at
+        // q = (3/8, 1/8): across x first, to (4, 2), then down past that single pixel: (4, 3).
+        // Across y first would have gone to (3, 4), then past its 4×4 fragment: (4, 4).
+        let lod: Vec<u8> = (0..64).map(|i| if i % 8 < 4 { 2 } else { 0 }).collect();
+        let lit = [
+            Level { extent: (8, 8), texels: (0..64).map(|i| colour(100.0 + i as f32)).collect() },
+            Level { extent: (4, 4), texels: vec![colour(0.0); 16] },
+            Level { extent: (2, 2), texels: (0..4).map(|i| colour(1.0 + i as f32)).collect() },
+        ];
+        let inputs = CompositeInputs { screen: (8, 8), lod: &lod, lit: &lit };
+        let (_, read) = inputs.four_neighbour([3, 2]);
+        assert_eq!(read, [1.0, 120.0, 3.0, 128.0].map(colour), "(3, 2): own, (4, 2), (3, 4)'s fragment, (4, 3)");
+    }
+
+    /// The seam-free triangle's choice read plainly, on every pixel of seeded LOD maps, nested
+    /// and not (a content LOD may change from pixel to pixel within a block): of the four
+    /// candidates (the corners each side along x and y, in `corners_along`'s order), each solved
+    /// in f64, the first of the best kind — holding P with three samples, holding it with a flat
+    /// corner, not holding it — leaving out degenerate ones.
+    #[test]
+    fn seam_free_takes_the_first_candidate_of_the_best_kind() {
+        use crate::scene::hash::SeededRng;
+        let mut rng = SeededRng::new(275);
+        let mut kinds = [0u32; 4];
+        for round in 0..120 {
+            let screen = (rng.range(1, 24), rng.range(1, 24));
+            let top = rng.range(0, 4);
+            let lod: Vec<u8> = if round % 2 == 0 {
+                crate::cps::lod_model::nested_random(screen, top, round)
+            } else {
+                (0..screen.0 * screen.1).map(|_| rng.range(0, top + 1) as u8).collect()
+            };
+            let lit = sampled_levels(screen, top, |p| [p[0] as f32, p[1] as f32, 0.0, 1.0]);
+            let inputs = CompositeInputs { screen, lod: &lod, lit: &lit };
+            for p in (0..i64::from(screen.1)).flat_map(|y| (0..i64::from(screen.0)).map(move |x| [x, y])) {
+                let a = inputs.sample_of(p);
+                let toward = [0, 1].map(|i| if p[i] < a[i] { -1 } else { 1 });
+                let along_x = inputs.corners_along(p, a, 0, toward[0]);
+                let along_y = inputs.corners_along(p, a, 1, toward[1]);
+                let (d, af) = ([(p[0] - a[0]) as f64, (p[1] - a[1]) as f64], a);
+                let candidates = (0..4).filter_map(|i| {
+                    let (b, e) = (along_x[i & 1], along_y[i >> 1]);
+                    let (u, v) = (b.edge.map(|c| c as f64), e.edge.map(|c| c as f64));
+                    let det = u[0] * v[1] - u[1] * v[0];
+                    if det == 0.0 {
+                        return None;
+                    }
+                    let (beta, delta) = ((d[0] * v[1] - d[1] * v[0]) / det, (u[0] * d[1] - u[1] * d[0]) / det);
+                    let holds = beta >= 0.0 && delta >= 0.0 && beta + delta <= 1.0 + 1e-12;
+                    let flat = b.pixel == p || e.pixel == p;
+                    let kind = if holds && !flat {
+                        3
+                    } else if holds {
+                        2
+                    } else {
+                        1
+                    };
+                    Some((kind, [p, b.pixel, e.pixel]))
+                });
+                let mut best: Option<(u32, [[i64; 2]; 3])> = None;
+                for (kind, corners) in candidates {
+                    if best.is_none_or(|(best_kind, _)| kind > best_kind) {
+                        best = Some((kind, corners));
+                    }
+                }
+                let chosen = inputs.seam_free_triangle(p).map(|t| t.corners);
+                assert_eq!(chosen, best.map(|(_, corners)| corners), "{screen:?} round {round} {p:?} (A {af:?})");
+                kinds[best.map_or(0, |(kind, _)| kind as usize)] += 1;
+            }
+        }
+        // Each kind is chosen somewhere, the last resort (no candidate holds P) included.
+        assert!(kinds[1..].iter().all(|&n| n > 100), "choices by kind (none, other, flat, three samples): {kinds:?}");
+    }
+
     /// The seam metric by its definition on 2×2: pairs (0,0)–(1,0) and (0,0)–(0,1) cross a LOD
     /// change, (1,0)–(1,1) and (0,1)–(1,1) do not. Red steps: image −2 and −4 against the
     /// reference's −1 and −1: departures 1 and 3, a third of each over RGB, their mean 2/3.
