@@ -1,5 +1,5 @@
-//! The run loop (`fragkit::harness::run`): retries tell a flaky case from a failing one, and every
-//! sink sees the same records.
+//! The run loop (`fragkit::harness::run`): retries tell a flaky case from a failing one, every
+//! sink sees the same records, and a record holds what its case measured and how long it took.
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -42,6 +42,23 @@ const BROKEN: Case = Case {
     run: |_| Ok(Outcome::Fail("always".into())),
 };
 
+const MEASURED: Case = Case {
+    name: "test.measured",
+    summary: "records a metric and an evidence image after 50 ms",
+    requires: wgpu::Features::empty(),
+    params: &[],
+    sweep: &[],
+    budget_s: 1,
+    timed_verdict: false,
+    shaders: &[],
+    run: |ctx| {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        ctx.metric("answer", 42);
+        ctx.evidence_image("tile", &image::RgbaImage::new(2, 2))?;
+        Ok(Outcome::Pass)
+    },
+};
+
 #[derive(Default)]
 struct Collect {
     records: Vec<String>,
@@ -80,4 +97,34 @@ fn retries_report_flaky_cases_and_keep_failing_ones_failed() {
         assert_eq!(sink.records, ["test.flaky", "test.broken"]);
         assert_eq!(sink.finished, 2);
     }
+}
+
+/// A case's metrics and evidence images reach its record (the images written to the evidence
+/// folder, named by the case), and its wall time is its own, in milliseconds.
+#[test]
+fn a_record_holds_the_cases_metrics_evidence_and_wall_time() {
+    let gpu = Gpu::open(&AdapterSelector::default()).unwrap_or_else(|e| panic!("{e:#}"));
+    let expectations = Expectations::default();
+    let evidence = std::env::temp_dir().join(format!("fragkit-run-loop-evidence-{}", std::process::id()));
+    std::fs::create_dir_all(&evidence).unwrap();
+    let options = RunOptions {
+        expectations: &expectations,
+        evidence_dir: Some(&evidence),
+        reproduction: None,
+        retries: 0,
+        repeats: 1,
+    };
+    let runs = [CaseRun { case: &MEASURED, overrides: Default::default() }];
+    let started = std::time::Instant::now();
+    let report = run(gpu, &runs, runs.len(), &options, &mut []).unwrap();
+    let whole_ms = started.elapsed().as_secs_f64() * 1e3;
+
+    let record = &report.cases[0];
+    assert_eq!(record.outcome, ReportedOutcome::Pass, "{}", record.reason);
+    assert_eq!(record.metrics.get("answer"), Some(&serde_json::json!(42)));
+    let image = evidence.join("test.measured.tile.png");
+    assert_eq!(record.evidence, std::slice::from_ref(&image));
+    assert_eq!(image::open(&image).unwrap().to_rgba8().dimensions(), (2, 2));
+    assert!(record.wall_ms >= 50.0 && record.wall_ms <= whole_ms, "{} ms of {whole_ms} ms", record.wall_ms);
+    std::fs::remove_dir_all(&evidence).ok();
 }

@@ -256,6 +256,11 @@ mod tests {
                 "{screen:?} focus {focus:?} r {inner_radius} level {level}"
             );
         }
+        // A centre exactly a pixel past the disk's edge lies within the widening, along either
+        // axis: r = 999.5 at level 0 (R = r), the focus on the screen's first pixel edge, pixel
+        // 1000's centre at 1000.5 = R + 1.
+        assert_eq!(foveated_bounds((2048, 1), (0.0, 0.5), 999.5, 0), (0, 0, 1001, 1));
+        assert_eq!(foveated_bounds((1, 2048), (0.5, 0.0), 999.5, 0), (0, 0, 1, 1001));
     }
 
     /// Under the foveated policy with a stencil pyramid, each level below the top is drawn

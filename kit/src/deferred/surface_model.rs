@@ -321,6 +321,28 @@ mod tests {
         vec![a, b, c, a, c, d]
     }
 
+    /// Far from the camera a few millimetres are within a Depth32Float test's reach: at 50 m
+    /// (near 0.1, far 60), faces 2 mm apart lie 8e-8 apart in NDC depth (about an f32 ulp
+    /// there), so where they overlap the pixel is a tie, as the definition has it; where only
+    /// one lies, it.
+    #[test]
+    fn far_faces_millimetres_apart_are_a_depth_tie() {
+        use crate::scene::corridor::Camera;
+        let camera = Camera { eye: DVec3::ZERO.as_vec3(), target: glam::Vec3::NEG_Z, fov_y: 1.0, near: 0.1, far: 60.0 };
+        let mut vertices = quad((-20.0, 20.0), (-20.0, 20.0), -50.0);
+        vertices.extend(quad((0.0, 30.0), (-30.0, 30.0), -50.002));
+        let scene = Scene { vertices, lights: Vec::new(), camera };
+        let size = (8, 8);
+        let (got, want) =
+            (SurfaceModel::new(&scene, size).expected(0.0), Reference { scene: &scene, size }.expected(0.0));
+        for y in 1..7 {
+            let row = &got[y * 8..y * 8 + 8];
+            assert!(matches!(row[2], ExpectedPixel::Surface { triangle: 0 | 1, .. }), "(2, {y}): {:?}", row[2]);
+            assert_eq!(row[5], ExpectedPixel::Ambiguous, "(5, {y})");
+            assert_eq!(want[y * 8 + 5], ExpectedPixel::Ambiguous, "the reference at (5, {y})");
+        }
+    }
+
     /// Where the corridors hardly go: a face's own diagonal through pixel centres (its two
     /// triangles are one face, not a tie), two faces at depths a Depth32Float test cannot order
     /// (ambiguous), a nearer face over a farther one (the nearer wins) — the model against the

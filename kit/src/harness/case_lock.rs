@@ -98,6 +98,17 @@ mod tests {
 
     use super::*;
 
+    /// The lock files' stem: `fragkit-cases` in the temporary folder, unless the variable names
+    /// one (as the fleet's parallel jobs may set it).
+    #[test]
+    fn the_lock_files_lie_in_the_temporary_folder_unless_the_variable_moves_them() {
+        let expected = match std::env::var_os(CASE_LOCK) {
+            Some(named) => PathBuf::from(named),
+            None => std::env::temp_dir().join("fragkit-cases"),
+        };
+        assert_eq!(stem(), expected);
+    }
+
     /// Shared holders run together; a timed case waits for them, and a case that comes after it
     /// waits behind it.
     #[test]

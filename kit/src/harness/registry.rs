@@ -32,3 +32,18 @@ macro_rules! cases {
 pub fn join(registry: &'static OnceLock<Vec<Case>>, areas: &[&[&Case]]) -> &'static [Case] {
     registry.get_or_init(|| areas.iter().flat_map(|area| area.iter().map(|&&case| case)).collect())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The areas' cases in their order, joined once: a later call gets the first list.
+    #[test]
+    fn a_suites_registry_is_its_areas_cases_in_order_joined_once() {
+        static REGISTRY: OnceLock<Vec<Case>> = OnceLock::new();
+        let (one, two, three) = (Case::passing("a.one"), Case::passing("a.two"), Case::passing("b.one"));
+        let names = |cases: &[Case]| cases.iter().map(|case| case.name).collect::<Vec<_>>();
+        assert_eq!(names(join(&REGISTRY, &[&[&one, &two], &[], &[&three]])), ["a.one", "a.two", "b.one"]);
+        assert_eq!(names(join(&REGISTRY, &[&[&three]])), ["a.one", "a.two", "b.one"]);
+    }
+}

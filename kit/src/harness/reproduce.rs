@@ -226,6 +226,11 @@ mod tests {
             reproduction.line(&CASE, &BTreeMap::new(), "gl"),
             "LP_NATIVE_VECTOR_WIDTH=128 MESA_DEBUG=1 fragkit check kit.example --matrix zink --validation"
         );
+        // Without validation, none is added: the selection's other flags do not stand for it.
+        let selector = AdapterSelector { validation: false, ..selector };
+        let reproduction = Reproduction::new("fragkit check", &selector, variables(&[("HOME", "/root")]))
+            .as_configuration(&["--matrix".to_owned(), "zink".to_owned()], &configuration);
+        assert_eq!(reproduction.line(&CASE, &BTreeMap::new(), "gl"), "fragkit check kit.example --matrix zink");
     }
 
     #[test]

@@ -140,13 +140,7 @@ pub fn run_case(
     };
     // A lost device fails the case whatever it reported; the caller reopens the device.
     let (gpu_ms, outcome) = match (gpu.lost(), outcome) {
-        (Some(lost), outcome) => {
-            let detail = match outcome {
-                Outcome::Fail(why) => format!("; the case saw: {why}"),
-                _ => String::new(),
-            };
-            (None, Outcome::Fail(format!("device lost during the case ({lost}){detail}")))
-        }
+        (Some(lost), outcome) => (None, lost_device_failure(&lost, outcome)),
         (None, outcome) => match gpu.take_gpu_ms() {
             Ok(ms) => (ms, outcome),
             Err(e) => (None, Outcome::Fail(format!("reading the case's GPU time: {e:#}"))),
@@ -177,6 +171,16 @@ pub fn run_case(
         attempts: 1,
         diagnostics,
     }
+}
+
+/// The failure of a case during which the device was lost (`lost`: why), whatever the case
+/// reported; what it saw where it failed too.
+fn lost_device_failure(lost: &str, outcome: Outcome) -> Outcome {
+    let detail = match outcome {
+        Outcome::Fail(why) => format!("; the case saw: {why}"),
+        _ => String::new(),
+    };
+    Outcome::Fail(format!("device lost during the case ({lost}){detail}"))
 }
 
 /// A case's outcome as the expectations judge it on `adapter`: a failure an entry explains is a
@@ -245,6 +249,21 @@ fn with_errors(outcome: Outcome, what: &str, errors: &[String]) -> Outcome {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A lost device fails the case, passed or not, and keeps what a failing case saw.
+    #[test]
+    fn a_lost_device_fails_the_case_and_keeps_what_it_saw() {
+        let failure = |outcome| match lost_device_failure("Destroyed", outcome) {
+            Outcome::Fail(why) => why,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(failure(Outcome::Pass), "device lost during the case (Destroyed)");
+        assert_eq!(failure(Outcome::NotSupported("x".into())), "device lost during the case (Destroyed)");
+        assert_eq!(
+            failure(Outcome::Fail("2 of 64 pixels".into())),
+            "device lost during the case (Destroyed); the case saw: 2 of 64 pixels"
+        );
+    }
 
     #[test]
     fn gl_errors_fail_a_passing_or_failing_case_by_name() {

@@ -216,6 +216,14 @@ mod tests {
         assert_eq!(parsed.sets, ["size=4x4"]);
         assert_eq!(parsed.selector.backend.as_deref(), Some("gl"));
         assert_eq!(parsed.timeout, Some(Duration::from_secs(9)));
+        assert!(!parsed.list && !parsed.verbose && parsed.child_stream.is_none());
+        assert_eq!(parsed.selector.adapter_name, None);
+        let stream = format!("{CHILD_STREAM} s.records");
+        let parsed = Arguments::parse(words(&format!("--list --adapter llvmpipe -v {stream}"))).unwrap();
+        assert!(parsed.list && parsed.verbose && parsed.patterns.is_empty());
+        assert_eq!(parsed.selector.adapter_name.as_deref(), Some("llvmpipe"));
+        assert_eq!(parsed.child_stream, Some(PathBuf::from("s.records")));
+        assert!(Arguments::parse(words("--verbose")).unwrap().verbose);
         for bad in ["--json", "--frobnicate", "--timeout 0", "--timeout x", "--jobs 0", "--jobs"] {
             assert!(Arguments::parse(words(bad)).is_err(), "{bad} accepted");
         }

@@ -343,9 +343,7 @@ pub fn supervise(runs: &[CaseRun], supervision: &Supervision, sinks: &mut [&mut 
                 }
             }
             let busy = workers.iter().filter(|w| w.busy.is_some()).count();
-            let idle_or_opening = workers.len() - busy;
-            let wanted = supervision.jobs.max(1).min(busy + schedule.pending.len());
-            if workers.len() < wanted && idle_or_opening < schedule.pending.len() {
+            if another_child_wanted(workers.len(), busy, schedule.pending.len(), supervision.jobs) {
                 workers.push(Worker::start(&program, &supervision.arguments, started)?);
                 started += 1;
             }
@@ -377,6 +375,30 @@ pub fn supervise(runs: &[CaseRun], supervision: &Supervision, sinks: &mut [&mut 
         report.diagnostics = diagnostics;
     }
     schedule.finish(sinks)
+}
+
+/// Whether to start one more child: fewer run than `jobs` (at least one), and fewer than the
+/// case runs busy or pending need (so a pending run finds no child idle or opening to take it).
+fn another_child_wanted(children: usize, busy: usize, pending: usize, jobs: usize) -> bool {
+    children < jobs.max(1).min(busy + pending)
+}
+
+/// Whether a live child is out of time at `now`: the case run it was handed (`busy`: its index
+/// and since when its clock runs, None while it waits for the case lock) has gone past that
+/// case's timeout, or it has not opened its device within `SHORTEST` of its start.
+fn out_of_time(
+    busy: Option<(usize, Option<Instant>)>,
+    opened: bool,
+    started: Instant,
+    runs: &[CaseRun],
+    timeout: CaseTimeout,
+    now: Instant,
+) -> bool {
+    match busy {
+        Some((index, Some(since))) => now - since > timeout.of(runs[index].case),
+        Some((_, None)) => false,
+        None => !opened && now - started > SHORTEST,
+    }
 }
 
 /// Reads what `worker` streamed and sees whether it died or ran out of time; true when it is
@@ -414,12 +436,8 @@ fn watch(
     let death = match exited {
         Some(status) => Death::Status(status),
         None => {
-            let out_of_time = match worker.busy {
-                Some((index, Some(since))) => since.elapsed() > supervision.timeout.of(schedule.runs[index].case),
-                Some((_, None)) => false,
-                None => !worker.opened && worker.started.elapsed() > SHORTEST,
-            };
-            if !out_of_time {
+            let now = Instant::now();
+            if !out_of_time(worker.busy, worker.opened, worker.started, schedule.runs, supervision.timeout, now) {
                 return Ok(false);
             }
             worker.child.kill().ok();
@@ -535,7 +553,237 @@ fn death_record(
 
 #[cfg(test)]
 mod tests {
+    use super::super::params::{ParamKind, ParamSpec};
     use super::*;
+
+    /// What a sink was handed: the runs it was told of, then each record's run name and outcome.
+    #[derive(Default)]
+    struct Handed {
+        runs: Option<usize>,
+        records: Vec<(String, ReportedOutcome)>,
+    }
+
+    impl Sink for Handed {
+        fn start(&mut self, _adapter: &AdapterDescription, runs: usize) -> Result<()> {
+            self.runs = Some(runs);
+            Ok(())
+        }
+        fn record(&mut self, record: &CaseRecord) -> Result<()> {
+            self.records.push((record.run_name(), record.outcome));
+            Ok(())
+        }
+        fn finish(&mut self, _report: &Report) -> Result<()> {
+            Ok(())
+        }
+    }
+
+    const SIZED: &[ParamSpec] = &[ParamSpec { name: "size", kind: ParamKind::Size, default: "8x4", help: "" }];
+
+    /// The schedule of four case runs — a, b (the skip list names it), c (recorded by the run
+    /// being resumed) and d, with a parameter — records b `skip` and keeps c's record when the
+    /// adapter opens, leaving a and d to hand out; records reach the sinks in the list's order,
+    /// each once, only as the ones before them arrive; past `max_fails` unexpected failures the
+    /// runs not yet handed out are `not_run`.
+    #[test]
+    fn the_schedule_skips_resumes_delivers_in_order_and_stops_after_max_fails() {
+        use ReportedOutcome::{Fail, NotRun, Pass, Skip};
+        let (a, b, c) = (Case::passing("kit.a"), Case::passing("kit.b"), Case::passing("kit.c"));
+        let d = Case { params: SIZED, ..Case::passing("kit.d") };
+        let runs: Vec<CaseRun> =
+            [&a, &b, &c, &d].into_iter().map(|case| CaseRun { case, overrides: BTreeMap::new() }).collect();
+        let skips = SkipList::parse("kit.b  # flaky here", "skips.txt").unwrap();
+        let recorded = [CaseRecord::unmeasured("kit.c", Pass, "earlier")];
+        let reproduction = Reproduction::new("fragkit check", &AdapterSelector::default(), Vec::new());
+        let expectations = Expectations::default();
+        let accept = |_: &AdapterDescription| -> Result<()> { Ok(()) };
+        let supervision = |max_fails| Supervision {
+            arguments: Vec::new(),
+            reproduction: &reproduction,
+            expectations: &expectations,
+            timeout: CaseTimeout::FromBudget,
+            verbose: false,
+            jobs: 1,
+            skips: &skips,
+            max_fails,
+            flaky_fails: false,
+            accept_adapter: &accept,
+            recorded: &recorded,
+        };
+        let schedule = || Schedule {
+            runs: &runs,
+            records: vec![None; runs.len()],
+            pending: VecDeque::new(),
+            delivered: 0,
+            unexpected: 0,
+            report: None,
+        };
+        let record = |name: &str, outcome| CaseRecord::unmeasured(name, outcome, "");
+
+        // Two failures allowed: d's pass waits for a's record, then all four go, in order.
+        let two = supervision(Some(2));
+        let (mut running, mut sink) = (schedule(), Handed::default());
+        assert!(!running.complete());
+        running.open(AdapterDescription::default(), &two, &mut [&mut sink]).unwrap();
+        assert_eq!(sink.runs, Some(4));
+        assert_eq!(running.pending, [0, 3]);
+        running.deliver(&mut [&mut sink]).unwrap();
+        assert!(sink.records.is_empty() && !running.complete());
+        running.file(3, CaseRecord { params: resolved_params(&runs[3]), ..record("kit.d", Pass) }, &two);
+        running.deliver(&mut [&mut sink]).unwrap();
+        assert!(sink.records.is_empty() && !running.complete(), "d went before a");
+        running.file(0, record("kit.a", Fail), &two);
+        assert_eq!(running.unexpected, 1);
+        running.deliver(&mut [&mut sink]).unwrap();
+        running.deliver(&mut [&mut sink]).unwrap();
+        let expected = [("kit.a", Fail), ("kit.b", Skip), ("kit.c", Pass), ("kit.d [size=[[8,4]]]", Pass)];
+        assert_eq!(sink.records, expected.map(|(name, outcome)| (name.to_owned(), outcome)));
+        assert!(running.complete());
+        assert_eq!(running.finish(&mut [&mut sink]).unwrap().cases.len(), 4);
+
+        // One failure allowed: a's stops the run, d (not yet handed out) is not_run, with its
+        // parameters.
+        let one = supervision(Some(1));
+        let (mut stopped, mut sink) = (schedule(), Handed::default());
+        stopped.open(AdapterDescription::default(), &one, &mut [&mut sink]).unwrap();
+        stopped.pending.pop_front();
+        stopped.file(0, record("kit.a", Fail), &one);
+        stopped.deliver(&mut [&mut sink]).unwrap();
+        assert_eq!(sink.records.last(), Some(&("kit.d [size=[[8,4]]]".to_owned(), NotRun)));
+        assert!(stopped.complete());
+        let reason = &stopped.finish(&mut []).unwrap().cases[3].reason;
+        assert_eq!(reason, "not run: the run stopped after 1 unexpected failure (--max-fails 1)");
+
+        // A resumed record of a run this list does not hold is refused; so is an adapter the
+        // run does not accept.
+        let stray = [CaseRecord::unmeasured("kit.e", Pass, "")];
+        let refuse = |_: &AdapterDescription| -> Result<()> { bail!("not the promised adapter") };
+        let with_stray = Supervision { recorded: &stray, ..supervision(None) };
+        assert!(schedule().open(AdapterDescription::default(), &with_stray, &mut []).is_err());
+        let refusing = Supervision { accept_adapter: &refuse, ..supervision(None) };
+        assert!(schedule().open(AdapterDescription::default(), &refusing, &mut []).is_err());
+    }
+
+    /// Read plainly: another child starts while fewer run than `jobs` (at least one) and some
+    /// pending case run finds no child idle or opening to take it.
+    #[test]
+    fn another_child_starts_only_for_a_pending_run_no_child_can_take_within_jobs() {
+        for jobs in 0..5 {
+            for children in 0..6 {
+                for busy in 0..=children {
+                    for pending in 0..6 {
+                        let plain = children < jobs.max(1) && pending > children - busy;
+                        assert_eq!(
+                            another_child_wanted(children, busy, pending, jobs),
+                            plain,
+                            "{children} children, {busy} busy, {pending} pending, --jobs {jobs}"
+                        );
+                    }
+                }
+            }
+        }
+        assert!(another_child_wanted(1, 1, 3, 2), "one busy child, three pending, two jobs");
+        assert!(!another_child_wanted(1, 0, 1, 2), "the one pending run waits for the opening child");
+    }
+
+    /// A child runs out of time by the timeout of the case it runs (not another's), its clock
+    /// stopped while it waits for the case lock; one never handed a case, when it has not opened
+    /// its device within 30 s.
+    #[test]
+    fn a_child_is_out_of_time_by_its_own_cases_timeout_or_before_opening() {
+        let quick = Case { budget_s: 1, ..Case::passing("kit.quick") };
+        let slow = Case { budget_s: 60, ..Case::passing("kit.slow") };
+        let runs = [&quick, &slow].map(|case| CaseRun { case, overrides: BTreeMap::new() });
+        let start = Instant::now();
+        let at = |seconds| start + Duration::from_secs(seconds);
+        let timeout = CaseTimeout::FromBudget;
+        let out = |busy, opened, now| out_of_time(busy, opened, start, &runs, timeout, now);
+        assert!(out(Some((0, Some(start))), true, at(31)), "the quick case's 30 s");
+        assert!(!out(Some((0, Some(start))), true, at(30)), "at its 30 s");
+        assert!(!out(Some((1, Some(start))), true, at(31)), "the slow case has 600 s");
+        assert!(out(Some((1, Some(start))), true, at(601)));
+        assert!(!out(Some((1, Some(at(500)))), true, at(601)), "its clock started at 500 s");
+        assert!(!out(Some((0, None)), true, at(10_000)), "waiting for the case lock");
+        assert!(out(None, false, at(31)) && !out(None, false, at(30)), "not opened");
+        assert!(!out(None, true, at(10_000)), "idle");
+        let fixed =
+            out_of_time(Some((1, Some(start))), true, start, &runs, CaseTimeout::Fixed(Duration::from_secs(5)), at(6));
+        assert!(fixed, "--timeout 5");
+    }
+
+    /// The line a dying process wrote last, before its backtrace and blank lines.
+    #[test]
+    fn a_deaths_message_is_the_last_line_before_the_backtrace() {
+        let stderr = "opening lavapipe\npanicked at src/a.rs:1: index out of range\n\nstack backtrace:\n  0: main\n";
+        assert_eq!(last_message(stderr), "panicked at src/a.rs:1: index out of range");
+        assert_eq!(last_message("one\ntwo\n  \n"), "two");
+        assert_eq!(last_message(""), "(nothing on stderr)");
+    }
+
+    /// A death's record: `crash` with how the process ended, or `timeout` with the case's own
+    /// timeout and where it came from, each with its message and reproduce line, the run's
+    /// parameters and the stderr tail as diagnostics; `known_issue` where the expectations list
+    /// that death on this adapter.
+    #[test]
+    fn a_deaths_record_says_how_the_child_ended_and_keeps_its_parameters_and_stderr() {
+        use std::os::unix::process::ExitStatusExt;
+        let case = Case { params: SIZED, budget_s: 4, ..Case::passing("kit.dies") };
+        let run = CaseRun { case: &case, overrides: BTreeMap::from([("size".to_owned(), "2x2".to_owned())]) };
+        let reproduction = Reproduction::new("fragkit check", &AdapterSelector::default(), Vec::new());
+        let expectations = Expectations::parse(
+            "[[known_issue]]\ncase = \"kit.dies\"\nadapter = \"swift*\"\nfailure = \"crash: *\"\nreason = \"driver: it aborts\"\n",
+            "test",
+        )
+        .unwrap();
+        let skips = SkipList::default();
+        let accept = |_: &AdapterDescription| -> Result<()> { Ok(()) };
+        let supervision = Supervision {
+            arguments: Vec::new(),
+            reproduction: &reproduction,
+            expectations: &expectations,
+            timeout: CaseTimeout::FromBudget,
+            verbose: false,
+            jobs: 1,
+            skips: &skips,
+            max_fails: None,
+            flaky_fails: false,
+            accept_adapter: &accept,
+            recorded: &[],
+        };
+        let adapter =
+            |name: &str| AdapterDescription { name: name.into(), backend: "vulkan".into(), ..Default::default() };
+        let death = |death| DeathReport { death, message: "boom".into(), stderr_tail: "a\nboom".into() };
+
+        let killed =
+            death_record(&run, &death(Death::Status(ExitStatus::from_raw(9))), &adapter("llvmpipe"), &supervision);
+        assert_eq!(killed.outcome, ReportedOutcome::Crash);
+        assert!(
+            killed.reason.starts_with("crash: the process running the case was killed by signal 9 (SIGKILL) (stderr ends: boom) [reproduce: fragkit check kit.dies --set size=2x2 --backend vulkan]"),
+            "{}",
+            killed.reason
+        );
+        assert_eq!(killed.params, resolved_params(&run));
+        assert_eq!(killed.diagnostics, ["a", "boom"]);
+        let exited =
+            death_record(&run, &death(Death::Status(ExitStatus::from_raw(3 << 8))), &adapter("llvmpipe"), &supervision);
+        assert!(
+            exited.reason.starts_with("crash: the process running the case ended (exit 3) before recording it"),
+            "{}",
+            exited.reason
+        );
+        let timed_out = death_record(&run, &death(Death::TimedOut), &adapter("llvmpipe"), &supervision);
+        assert_eq!(timed_out.outcome, ReportedOutcome::Timeout);
+        assert!(
+            timed_out.reason.starts_with("timeout: no record for 40 s (10× the case's budget of 4 s, at least 30 s); the process running the case was killed (stderr ends: boom)"),
+            "{}",
+            timed_out.reason
+        );
+        let known =
+            death_record(&run, &death(Death::Status(ExitStatus::from_raw(6))), &adapter("swiftshader"), &supervision);
+        assert_eq!(known.outcome, ReportedOutcome::KnownIssue);
+        assert!(known.reason.ends_with("[known: driver: it aborts]"), "{}", known.reason);
+        let elsewhere = death_record(&run, &death(Death::TimedOut), &adapter("swiftshader"), &supervision);
+        assert_eq!(elsewhere.outcome, ReportedOutcome::Timeout, "the entry lists crashes only");
+    }
 
     /// A case's timeout is ten times its budget with 30 s as the floor, or the one given.
     #[test]

@@ -68,9 +68,30 @@ mod tests {
         assert_eq!(rng.next_u32(), 925619080);
     }
 
+    /// `range(lo, hi)` draws every integer of [lo, hi) and nothing else, each about equally often:
+    /// within 5σ of the binomial count (12 000 draws).
     #[test]
-    fn range_stays_in_bounds() {
+    fn range_draws_each_value_of_its_bounds_equally_often() {
         let mut rng = SeededRng::new(7);
-        assert!((0..10_000).all(|_| (3..9).contains(&rng.range(3, 9))));
+        for (lo, hi) in [(3u32, 9u32), (0, 2), (1000, 1007)] {
+            let span = f64::from(hi - lo);
+            let draws = 12_000;
+            let mut counts = vec![0u32; (hi - lo) as usize];
+            for _ in 0..draws {
+                let value = rng.range(lo, hi);
+                assert!((lo..hi).contains(&value), "{value} outside {lo}..{hi}");
+                counts[(value - lo) as usize] += 1;
+            }
+            let mean = f64::from(draws) / span;
+            let sigma = (mean * (1.0 - 1.0 / span)).sqrt();
+            for (offset, &count) in counts.iter().enumerate() {
+                assert!(
+                    (f64::from(count) - mean).abs() <= 5.0 * sigma,
+                    "{lo}..{hi}: {} drawn {count} times",
+                    lo + offset as u32
+                );
+            }
+        }
+        assert_eq!(rng.range(5, 6), 5);
     }
 }
