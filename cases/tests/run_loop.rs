@@ -4,7 +4,7 @@
 use std::sync::atomic::{AtomicU32, Ordering};
 
 use fragkit::harness::run::{CaseRun, RunOptions, run};
-use fragkit::harness::{Case, Outcome};
+use fragkit::harness::{Case, Ctx, Outcome};
 use fragkit::{AdapterSelector, Gpu};
 use fragkit_report::expectations::Expectations;
 use fragkit_report::report::{CaseRecord, Report, ReportedOutcome};
@@ -12,52 +12,33 @@ use fragkit_report::sink::Sink;
 
 static FLAKY_CALLS: AtomicU32 = AtomicU32::new(0);
 
-const FLAKY: Case = Case {
-    name: "test.flaky",
-    summary: "fails on its first run only",
-    requires: wgpu::Features::empty(),
-    params: &[],
-    sweep: &[],
-    budget_s: 1,
-    timed_verdict: false,
-    shaders: &[],
-    run: |_| {
-        Ok(if FLAKY_CALLS.fetch_add(1, Ordering::SeqCst) == 0 {
-            Outcome::Fail("first run".into())
-        } else {
-            Outcome::Pass
-        })
-    },
-};
+/// A parameterless test case of the run loop, with a budget of a second and no shaders.
+const fn test_case(name: &'static str, summary: &'static str, run: fn(&mut Ctx) -> anyhow::Result<Outcome>) -> Case {
+    Case {
+        name,
+        summary,
+        requires: wgpu::Features::empty(),
+        params: &[],
+        sweep: &[],
+        budget_s: 1,
+        timed_verdict: false,
+        shaders: &[],
+        run,
+    }
+}
 
-const BROKEN: Case = Case {
-    name: "test.broken",
-    summary: "always fails",
-    requires: wgpu::Features::empty(),
-    params: &[],
-    sweep: &[],
-    budget_s: 1,
-    timed_verdict: false,
-    shaders: &[],
-    run: |_| Ok(Outcome::Fail("always".into())),
-};
+const FLAKY: Case = test_case("test.flaky", "fails on its first run only", |_| {
+    Ok(if FLAKY_CALLS.fetch_add(1, Ordering::SeqCst) == 0 { Outcome::Fail("first run".into()) } else { Outcome::Pass })
+});
 
-const MEASURED: Case = Case {
-    name: "test.measured",
-    summary: "records a metric and an evidence image after 50 ms",
-    requires: wgpu::Features::empty(),
-    params: &[],
-    sweep: &[],
-    budget_s: 1,
-    timed_verdict: false,
-    shaders: &[],
-    run: |ctx| {
-        std::thread::sleep(std::time::Duration::from_millis(50));
-        ctx.metric("answer", 42);
-        ctx.evidence_image("tile", &image::RgbaImage::new(2, 2))?;
-        Ok(Outcome::Pass)
-    },
-};
+const BROKEN: Case = test_case("test.broken", "always fails", |_| Ok(Outcome::Fail("always".into())));
+
+const MEASURED: Case = test_case("test.measured", "records a metric and an evidence image after 50 ms", |ctx| {
+    std::thread::sleep(std::time::Duration::from_millis(50));
+    ctx.metric("answer", 42);
+    ctx.evidence_image("tile", &image::RgbaImage::new(2, 2))?;
+    Ok(Outcome::Pass)
+});
 
 #[derive(Default)]
 struct Collect {

@@ -655,7 +655,7 @@ mod tests {
                 let toward = [0, 1].map(|i| if p[i] < a[i] { -1 } else { 1 });
                 let along_x = inputs.corners_along(p, a, 0, toward[0]);
                 let along_y = inputs.corners_along(p, a, 1, toward[1]);
-                let (d, af) = ([(p[0] - a[0]) as f64, (p[1] - a[1]) as f64], a);
+                let d = [(p[0] - a[0]) as f64, (p[1] - a[1]) as f64];
                 let candidates = (0..4).filter_map(|i| {
                     let (b, e) = (along_x[i & 1], along_y[i >> 1]);
                     let (u, v) = (b.edge.map(|c| c as f64), e.edge.map(|c| c as f64));
@@ -682,7 +682,7 @@ mod tests {
                     }
                 }
                 let chosen = inputs.seam_free_triangle(p).map(|t| t.corners);
-                assert_eq!(chosen, best.map(|(_, corners)| corners), "{screen:?} round {round} {p:?} (A {af:?})");
+                assert_eq!(chosen, best.map(|(_, corners)| corners), "{screen:?} round {round} {p:?} (A {a:?})");
                 kinds[best.map_or(0, |(kind, _)| kind as usize)] += 1;
             }
         }

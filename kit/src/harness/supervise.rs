@@ -577,6 +577,32 @@ mod tests {
         }
     }
 
+    fn accept_any(_: &AdapterDescription) -> Result<()> {
+        Ok(())
+    }
+
+    /// A supervision of one job with timeouts from the budgets, no stop on failures, any adapter.
+    fn plain_supervision<'a>(
+        reproduction: &'a Reproduction,
+        expectations: &'a Expectations,
+        skips: &'a SkipList,
+        recorded: &'a [CaseRecord],
+    ) -> Supervision<'a> {
+        Supervision {
+            arguments: Vec::new(),
+            reproduction,
+            expectations,
+            timeout: CaseTimeout::FromBudget,
+            verbose: false,
+            jobs: 1,
+            skips,
+            max_fails: None,
+            flaky_fails: false,
+            accept_adapter: &accept_any,
+            recorded,
+        }
+    }
+
     const SIZED: &[ParamSpec] = &[ParamSpec { name: "size", kind: ParamKind::Size, default: "8x4", help: "" }];
 
     /// The schedule of four case runs — a, b (the skip list names it), c (recorded by the run
@@ -595,20 +621,8 @@ mod tests {
         let recorded = [CaseRecord::unmeasured("kit.c", Pass, "earlier")];
         let reproduction = Reproduction::new("fragkit check", &AdapterSelector::default(), Vec::new());
         let expectations = Expectations::default();
-        let accept = |_: &AdapterDescription| -> Result<()> { Ok(()) };
-        let supervision = |max_fails| Supervision {
-            arguments: Vec::new(),
-            reproduction: &reproduction,
-            expectations: &expectations,
-            timeout: CaseTimeout::FromBudget,
-            verbose: false,
-            jobs: 1,
-            skips: &skips,
-            max_fails,
-            flaky_fails: false,
-            accept_adapter: &accept,
-            recorded: &recorded,
-        };
+        let supervision =
+            |max_fails| Supervision { max_fails, ..plain_supervision(&reproduction, &expectations, &skips, &recorded) };
         let schedule = || Schedule {
             runs: &runs,
             records: vec![None; runs.len()],
@@ -735,20 +749,7 @@ mod tests {
         )
         .unwrap();
         let skips = SkipList::default();
-        let accept = |_: &AdapterDescription| -> Result<()> { Ok(()) };
-        let supervision = Supervision {
-            arguments: Vec::new(),
-            reproduction: &reproduction,
-            expectations: &expectations,
-            timeout: CaseTimeout::FromBudget,
-            verbose: false,
-            jobs: 1,
-            skips: &skips,
-            max_fails: None,
-            flaky_fails: false,
-            accept_adapter: &accept,
-            recorded: &[],
-        };
+        let supervision = plain_supervision(&reproduction, &expectations, &skips, &[]);
         let adapter =
             |name: &str| AdapterDescription { name: name.into(), backend: "vulkan".into(), ..Default::default() };
         let death = |death| DeathReport { death, message: "boom".into(), stderr_tail: "a\nboom".into() };
